@@ -1,0 +1,5 @@
+"""Install the robopuppet Python library (src/robopuppet) through catkin."""
+from setuptools import setup
+from catkin_pkg.python_setup import generate_distutils_setup
+
+setup(**generate_distutils_setup(packages=['robopuppet'], package_dir={'': 'src'}))

@@ -1,0 +1,1 @@
+"""RoboPuppet host software: pure cores (codec, config store, motion models, teleop) and ROS nodes."""

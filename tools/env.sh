@@ -1,0 +1,7 @@
+# Source this file to use the built workspace by hand: . tools/env.sh
+# (the same as sourcing catkin_ws/devel/setup.bash, with Debian's python3 first on PATH).
+_rp_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+export PATH="/usr/bin:/bin:$PATH"
+# shellcheck disable=SC1091
+. "$_rp_root/catkin_ws/devel/setup.bash"
+unset _rp_root

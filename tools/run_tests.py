@@ -1,0 +1,120 @@
+#!/usr/bin/python3
+"""Run RoboPuppet's tests: pytest unit tests, then every rostest file, each on its own roscore port.
+
+Usage: run_tests.py [unit|integration|all] [NAME ...]
+NAME filters the integration .test files (substring match). Prints one closing line
+'N passed, N failed' and exits non-zero when anything failed.
+"""
+import glob
+import os
+import re
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+import xml.etree.ElementTree as ET
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+PKG = os.path.join(ROOT, 'catkin_ws', 'src', 'robopuppet')
+UNIT_DIR = os.path.join(PKG, 'tests', 'unit')
+INTEGRATION_DIR = os.path.join(PKG, 'tests', 'integration')
+
+
+def free_port():
+    """Return a TCP port that is free on this machine right now."""
+    with socket.socket() as sock:
+        sock.bind(('127.0.0.1', 0))
+        return sock.getsockname()[1]
+
+
+def junit_counts(path):
+    """Return (passed, failed) from a JUnit XML file; (0, 1) if it is missing or unreadable."""
+    try:
+        root = ET.parse(path).getroot()
+    except (OSError, ET.ParseError):
+        return 0, 1
+    suites = [root] if root.tag == 'testsuite' else root.findall('testsuite')
+    total = failed = skipped = 0
+    for suite in suites:
+        total += int(suite.get('tests', 0))
+        failed += int(suite.get('failures', 0)) + int(suite.get('errors', 0))
+        skipped += int(suite.get('skipped', 0))
+    return total - failed - skipped, failed
+
+
+def run_unit(work_dir):
+    """Run the pytest unit tests; return (passed, failed)."""
+    xml = os.path.join(work_dir, 'unit.xml')
+    print('[test] unit tests (pytest)', flush=True)
+    cmd = [sys.executable, '-m', 'pytest', UNIT_DIR, '-q', '-p', 'no:cacheprovider',
+           '--junitxml', xml]
+    code = subprocess.call(cmd, cwd=ROOT)
+    passed, failed = junit_counts(xml)
+    if code != 0 and failed == 0:
+        failed = 1  # pytest itself failed (collection error, crash)
+    return passed, failed
+
+
+def rostest_counts(output):
+    """Return (passed, failed) from rostest's SUMMARY block."""
+    tests = re.search(r'\* TESTS: (\d+)', output)
+    errors = re.search(r'\* ERRORS: (\d+)', output)
+    failures = re.search(r'\* FAILURES: (\d+)', output)
+    if not tests:
+        return 0, 1
+    total = int(tests.group(1))
+    bad = int(errors.group(1)) + int(failures.group(1))
+    return max(total - bad, 0), max(bad, 1 if 'RESULT: FAIL' in output else 0)
+
+
+def run_integration(names, work_dir):
+    """Run each matching rostest file on a private roscore port; return (passed, failed)."""
+    files = sorted(glob.glob(os.path.join(INTEGRATION_DIR, '*.test')))
+    if names:
+        files = [f for f in files if any(n in os.path.basename(f) for n in names)]
+    passed = failed = 0
+    for path in files:
+        name = os.path.basename(path)
+        port = free_port()
+        log = os.path.join(work_dir, name + '.log')
+        print('[test] rostest %s (port %d)' % (name, port), flush=True)
+        start = time.monotonic()
+        with open(log, 'w') as out:
+            code = subprocess.call(['rostest', '--port', str(port), 'robopuppet', name],
+                                   stdout=out, stderr=subprocess.STDOUT, cwd=ROOT)
+        with open(log) as out:
+            output = out.read()
+        p, f = rostest_counts(output)
+        if code != 0 and f == 0:
+            f = 1
+        passed += p
+        failed += f
+        verdict = 'ok' if f == 0 else 'FAILED (log: %s)' % log
+        print('[test]   %d passed, %d failed in %.0f s: %s'
+              % (p, f, time.monotonic() - start, verdict), flush=True)
+        if f:
+            print(output[-6000:])
+    return passed, failed
+
+
+def main():
+    args = sys.argv[1:]
+    scope = args.pop(0) if args and args[0] in ('unit', 'integration', 'all') else 'all'
+    work_dir = tempfile.mkdtemp(prefix='robopuppet-tests-')
+    os.environ['ROS_HOME'] = os.path.join(work_dir, 'ros_home')
+    os.environ['ROS_LOG_DIR'] = os.path.join(work_dir, 'ros_log')
+    passed = failed = 0
+    if scope in ('unit', 'all') and not args:
+        p, f = run_unit(work_dir)
+        passed, failed = passed + p, failed + f
+    if scope in ('integration', 'all'):
+        p, f = run_integration(args, work_dir)
+        passed, failed = passed + p, failed + f
+    print('[test] logs in %s' % work_dir)
+    print('%d passed, %d failed' % (passed, failed))
+    return 1 if failed or passed == 0 else 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
