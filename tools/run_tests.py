@@ -1,5 +1,7 @@
 #!/usr/bin/python3
-"""Run RoboPuppet's tests: pytest unit tests, then every rostest file, each on its own roscore port.
+"""Run RoboPuppet's tests: pytest unit tests, then every rostest file.
+
+rostest starts a private roscore on a free port for each file, so runs never collide.
 
 Usage: run_tests.py [unit|integration|all] [NAME ...]
 NAME filters the integration .test files (substring match). Prints one closing line
@@ -8,7 +10,6 @@ NAME filters the integration .test files (substring match). Prints one closing l
 import glob
 import os
 import re
-import socket
 import subprocess
 import sys
 import tempfile
@@ -19,13 +20,6 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PKG = os.path.join(ROOT, 'catkin_ws', 'src', 'robopuppet')
 UNIT_DIR = os.path.join(PKG, 'tests', 'unit')
 INTEGRATION_DIR = os.path.join(PKG, 'tests', 'integration')
-
-
-def free_port():
-    """Return a TCP port that is free on this machine right now."""
-    with socket.socket() as sock:
-        sock.bind(('127.0.0.1', 0))
-        return sock.getsockname()[1]
 
 
 def junit_counts(path):
@@ -69,19 +63,22 @@ def rostest_counts(output):
 
 
 def run_integration(names, work_dir):
-    """Run each matching rostest file on a private roscore port; return (passed, failed)."""
+    """Run each matching rostest file (rostest gives each its own roscore port).
+
+    Returns:
+        (passed, failed)
+    """
     files = sorted(glob.glob(os.path.join(INTEGRATION_DIR, '*.test')))
     if names:
         files = [f for f in files if any(n in os.path.basename(f) for n in names)]
     passed = failed = 0
     for path in files:
         name = os.path.basename(path)
-        port = free_port()
         log = os.path.join(work_dir, name + '.log')
-        print('[test] rostest %s (port %d)' % (name, port), flush=True)
+        print('[test] rostest %s' % name, flush=True)
         start = time.monotonic()
         with open(log, 'w') as out:
-            code = subprocess.call(['rostest', '--port', str(port), 'robopuppet', name],
+            code = subprocess.call(['rostest', '--text', 'robopuppet', name],
                                    stdout=out, stderr=subprocess.STDOUT, cwd=ROOT)
         with open(log) as out:
             output = out.read()

@@ -1,0 +1,221 @@
+"""Joint settings of one puppet arm: validation, ini parsing and comment-preserving edits.
+
+Pure: no file or ROS access. The ini text is `[joint_0]` ... `[joint_6]`, each with the twelve
+options of settings.SETTINGS as `name = value`. Lines starting with '#' or ';' are comments, and
+a value may carry an inline comment after whitespace ('angle_min = -1.2  ; soft stop').
+"""
+import math
+import re
+import struct
+
+from robopuppet import settings
+
+_SECTION_RE = re.compile(r'^\s*\[\s*([^\]]*?)\s*\]\s*$')
+_OPTION_RE = re.compile(r'^(\s*)([A-Za-z_]\w*)(\s*[=:]\s*)(.*?)(\s+[#;].*)?\s*$')
+_COMMENT_RE = re.compile(r'^\s*([#;].*)?$')
+
+
+class InvalidSetting(ValueError):
+    """A setting value that the puppet must not receive; the message names joint, setting, value."""
+
+
+def defaults():
+    """Return a fresh config: {joint: {name: default value}} for all seven joints."""
+    return {joint: {name: to_float32(value) for name, value in settings.DEFAULTS.items()}
+            for joint in settings.JOINTS}
+
+
+def check_joint(joint):
+    """Raise InvalidSetting unless joint is a valid joint index (0..6)."""
+    if not isinstance(joint, int) or joint not in settings.JOINTS:
+        raise InvalidSetting('joint %r does not exist: valid joints are %d-%d'
+                             % (joint, settings.JOINTS[0], settings.JOINTS[-1]))
+
+
+def validate(joint_values, joint, name, value):
+    """Check that setting `name` of `joint` may become `value`, given the joint's other values.
+
+    Args:
+        joint_values: the joint's current {name: value}, used for the min <= max rule.
+        joint: joint index 0..6.
+        name: setting name from settings.NAMES.
+        value: the proposed value.
+    Returns:
+        value as a float.
+    Raises:
+        InvalidSetting: unknown joint or name, a non-finite value, a sign that is not +-1, or a
+            minimum above its maximum.
+    """
+    check_joint(joint)
+    if name not in settings.CONFIG_ID:
+        raise InvalidSetting('joint %d: unknown setting %r' % (joint, name))
+    where = 'joint %d %s = %r' % (joint, name, value)
+    try:
+        value = to_float32(float(value))
+    except (TypeError, ValueError):
+        raise InvalidSetting('%s: not a number' % where) from None
+    if not math.isfinite(value):
+        raise InvalidSetting('%s: not a finite float32 number' % where)
+    if name in settings.SIGNS and value not in (1.0, -1.0):
+        raise InvalidSetting('%s: a sign must be +1 or -1' % where)
+    for low, high in settings.RANGE_PAIRS:
+        if name == low and value > joint_values[high]:
+            raise InvalidSetting('%s: above %s = %s'
+                                 % (where, high, format_value(joint_values[high])))
+        if name == high and value < joint_values[low]:
+            raise InvalidSetting('%s: below %s = %s'
+                                 % (where, low, format_value(joint_values[low])))
+    return value
+
+
+def to_float32(value):
+    """Return value rounded to float32, as the wire and GetConfig carry it (inf if too large)."""
+    try:
+        return struct.unpack('<f', struct.pack('<f', value))[0]
+    except OverflowError:
+        return math.copysign(math.inf, value)
+
+
+def format_value(value):
+    """Return the shortest decimal text that reads back as the same float32 (e.g. '0.1')."""
+    target = struct.pack('<f', value)
+    for digits in range(1, 18):
+        text = '%.*g' % (digits, value)
+        if struct.pack('<f', float(text)) == target:
+            return text
+    return repr(value)
+
+
+def _lines(text):
+    """Yield (index, kind, match) for each line: kind is section, option, comment or junk."""
+    for index, line in enumerate(text.splitlines()):
+        for kind, regex in (('comment', _COMMENT_RE), ('section', _SECTION_RE),
+                            ('option', _OPTION_RE)):
+            match = regex.match(line)
+            if match:
+                yield index, kind, match
+                break
+        else:
+            yield index, 'junk', None
+
+
+def parse(text):
+    """Read an arm's ini text, repairing what is missing or broken with defaults.
+
+    Returns:
+        (config, problems): config is {joint: {name: float}} for all joints and settings;
+        problems is a list of human-readable strings, one per entry that was repaired
+        (empty when the text was complete and valid).
+    """
+    config = defaults()
+    problems = []
+    raw = {}  # (joint, name) -> text
+    known_sections = {settings.section(j): j for j in settings.JOINTS}
+    seen_sections = set()
+    section = None
+    for index, kind, match in _lines(text):
+        if kind == 'section':
+            section = match.group(1)
+            seen_sections.add(section)
+            if section not in known_sections:
+                problems.append('line %d: unknown section [%s] ignored' % (index + 1, section))
+        elif kind == 'option':
+            if section is None:
+                problems.append('line %d: option outside any section ignored' % (index + 1))
+            elif section in known_sections:
+                name = match.group(2)
+                if name in settings.CONFIG_ID:
+                    raw[(known_sections[section], name)] = match.group(4)
+                else:
+                    problems.append('[%s] %s: unknown option ignored' % (section, name))
+        elif kind == 'junk':
+            problems.append('line %d: not an ini line, ignored' % (index + 1))
+    if not seen_sections:
+        return config, ['not an ini file: no [joint_N] sections; using defaults']
+    for joint in settings.JOINTS:
+        sec = settings.section(joint)
+        if sec not in seen_sections:
+            problems.append('[%s] missing section: using defaults' % sec)
+            continue
+        for name in settings.NAMES:
+            text_value = raw.get((joint, name))
+            if text_value is None:
+                problems.append('[%s] %s: missing, using default %s'
+                                % (sec, name, format_value(settings.DEFAULTS[name])))
+                continue
+            try:
+                number = to_float32(float(text_value))
+            except ValueError:
+                problems.append('[%s] %s = %r: not a number, using default %s'
+                                % (sec, name, text_value, format_value(settings.DEFAULTS[name])))
+                continue
+            if not math.isfinite(number) or (name in settings.SIGNS and number not in (1.0, -1.0)):
+                problems.append('[%s] %s = %s: invalid, using default %s'
+                                % (sec, name, text_value, format_value(settings.DEFAULTS[name])))
+                continue
+            config[joint][name] = number
+        for low, high in settings.RANGE_PAIRS:
+            values = config[joint]
+            if values[low] > values[high]:
+                problems.append('[%s] %s = %r is above %s = %r: using defaults for both'
+                                % (sec, low, values[low], high, values[high]))
+                values[low] = to_float32(settings.DEFAULTS[low])
+                values[high] = to_float32(settings.DEFAULTS[high])
+    return config, problems
+
+
+def render(text, config, only=None):
+    """Return `text` with the values of `config` written in, keeping comments and layout.
+
+    Args:
+        text: the current ini text (may be empty or not an ini at all).
+        config: {joint: {name: value}}, complete for every joint and setting.
+        only: optional set of (joint, name) to write; other option lines are left as they are.
+            Missing options and sections are always added.
+    Returns:
+        The new ini text, ending with a newline.
+    """
+    kinds = {kind for _, kind, _ in _lines(text)}
+    if 'section' not in kinds and kinds - {'comment'}:
+        text = ''  # not an ini: start afresh (the caller keeps a backup of the original)
+    lines = text.splitlines()
+    known_sections = {settings.section(j): j for j in settings.JOINTS}
+    written = set()
+    section_end = {}  # joint -> index after the section's last non-blank line
+    joint = None
+    for index, kind, match in _lines(text):
+        if kind == 'section':
+            joint = known_sections.get(match.group(1))
+            if joint is not None:
+                section_end[joint] = index + 1
+        elif kind == 'option' and joint is not None:
+            name = match.group(2)
+            section_end[joint] = index + 1
+            if name in settings.CONFIG_ID and (joint, name) not in written:
+                written.add((joint, name))
+                if only is None or (joint, name) in only:
+                    lead, sep, comment = match.group(1), match.group(3), match.group(5) or ''
+                    lines[index] = '%s%s%s%s%s' % (lead, name, sep,
+                                                   format_value(config[joint][name]), comment)
+    # Insert missing options at the end of their section, last sections first so that the
+    # indices of earlier sections stay valid.
+    for joint in sorted(section_end, reverse=True):
+        missing = ['%s = %s' % (name, format_value(config[joint][name]))
+                   for name in settings.NAMES if (joint, name) not in written]
+        lines[section_end[joint]:section_end[joint]] = missing
+    for joint in settings.JOINTS:
+        if joint not in section_end:
+            if lines and lines[-1].strip():
+                lines.append('')
+            lines.append('[%s]' % settings.section(joint))
+            lines.extend('%s = %s' % (name, format_value(config[joint][name]))
+                         for name in settings.NAMES)
+    return '\n'.join(lines) + '\n'
+
+
+def default_text(header=''):
+    """Return a complete ini text with the default settings and a comment per option kind."""
+    intro = [header] if header else []
+    intro += ['# RoboPuppet joint settings, one section per joint (DESIGN section 5).']
+    intro += ['#   %-13s %-10s %s' % (s.name, s.unit, s.meaning) for s in settings.SETTINGS]
+    return render('\n'.join(intro) + '\n', defaults())
