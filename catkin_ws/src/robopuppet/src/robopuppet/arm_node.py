@@ -1,0 +1,239 @@
+"""arm_X: drives Baxter from one puppet arm, through Baxter's own ROS API (robopuppet.teleop)."""
+import json
+import threading
+
+import rospy
+from baxter_core_msgs.msg import (AssemblyState, EndEffectorCommand, EndEffectorProperties,
+                                  EndEffectorState, JointCommand)
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Bool, Empty, Float32, String, UInt8
+
+from robopuppet import baxter_description, settings, teleop
+from robopuppet_msgs.msg import TeleopState
+
+GRIPPER_END_PIECE = 3
+ROBOT_TIMEOUT_S = 1.0        # Baxter is absent when /robot/state or joint states are older
+ENABLE_PERIOD_S = 1.0        # how often to ask an absent or disabled Baxter to enable
+STATE_PERIOD_S = 0.5         # teleop_state and /diagnostics at least this often
+GRIPPER_CALIBRATE_RETRY_S = 3.0
+DIAG_LEVEL = {teleop.NO_ROBOT: DiagnosticStatus.WARN, teleop.CALIBRATING: DiagnosticStatus.OK,
+              teleop.READY: DiagnosticStatus.OK, teleop.FOLLOWING: DiagnosticStatus.OK,
+              teleop.FAULT: DiagnosticStatus.ERROR}
+
+
+class ArmNode:
+    """Follow the puppet with Baxter's arms and grippers; drive the puppet in hold mode.
+
+    A command is computed as soon as puppet joint states arrive (low latency) and at least at
+    ~command_rate, the steady stream Baxter needs; no command goes out unless teleop allows it.
+
+    ROS API:
+      Subscribes: <ns>/joint_states (sensor_msgs/JointState), <ns>/joint_J/enc_stat
+        (std_msgs/String), <ns>/heartbeat (std_msgs/Empty), <ns>/user_btn (std_msgs/UInt8),
+        <ns>/gripper_3 (std_msgs/Float32, the end-piece button), /robot/state
+        (baxter_core_msgs/AssemblyState), /robot/joint_states (sensor_msgs/JointState),
+        /robot/end_effector/<side>_gripper/state and .../properties (baxter_core_msgs).
+      Publishes: /robot/limb/<side>/joint_command (baxter_core_msgs/JointCommand, position mode),
+        /robot/end_effector/<side>_gripper/command (baxter_core_msgs/EndEffectorCommand),
+        /robot/set_super_enable (std_msgs/Bool), <ns>/opmode (std_msgs/String),
+        <ns>/joint_J/setpoint (std_msgs/Float32), <ns>/teleop_state
+        (robopuppet_msgs/TeleopState, latched), /diagnostics (diagnostic_msgs/DiagnosticArray).
+      Parameters: ~arm_side ('L' or 'R', required; <ns> is /puppet/arm_<side>),
+        ~command_rate (Hz, 100), ~state_timeout (s, 0.3: the puppet is silent after this long
+        without joint states), ~heartbeat_timeout (s, 2.5), ~approach_speed (rad/s, 0.5: joint
+        speed while Baxter closes in on the puppet's pose when following starts).
+    """
+
+    def __init__(self):
+        side = rospy.get_param('~arm_side')
+        self._ns = settings.namespace(side)
+        self._name = 'arm_' + side
+        self._period_s = 1.0 / float(rospy.get_param('~command_rate', 100.0))
+        limits = {s: baxter_description.arm_limits(s) for s in teleop.SIDES}
+        self._joint_names = {s: baxter_description.arm_joint_names(s) for s in teleop.SIDES}
+        self._teleop = teleop.Teleop(
+            side, limits,
+            state_timeout_s=float(rospy.get_param('~state_timeout', 0.3)),
+            heartbeat_timeout_s=float(rospy.get_param('~heartbeat_timeout', 2.5)),
+            approach_speed_rad_s=float(rospy.get_param('~approach_speed', 0.5)))
+        self._lock = threading.Lock()
+        self._statuses = ['Disconnected'] * settings.NUM_JOINTS
+        self._robot_enabled = False
+        self._robot_state_t = self._robot_joints_t = None
+        self._robot_pose = {}
+        self._gripper_id = {s: 0 for s in teleop.SIDES}
+        self._calibrate_sent_t = {s: -1e9 for s in teleop.SIDES}
+        self._gripper_sequence = 0
+        self._last_command_t = self._last_enable_t = self._last_state_t = -1e9
+        self._published_state = None
+
+        self._pub_command = {s: rospy.Publisher('/robot/limb/%s/joint_command' % s, JointCommand,
+                                                queue_size=10, tcp_nodelay=True)
+                             for s in teleop.SIDES}
+        self._pub_gripper = {s: rospy.Publisher('/robot/end_effector/%s_gripper/command' % s,
+                                                EndEffectorCommand, queue_size=10)
+                             for s in teleop.SIDES}
+        self._pub_enable = rospy.Publisher('/robot/set_super_enable', Bool, queue_size=1)
+        self._pub_opmode = rospy.Publisher(self._ns + '/opmode', String, queue_size=10)
+        self._pub_setpoint = [rospy.Publisher('%s/joint_%d/setpoint' % (self._ns, j), Float32,
+                                              queue_size=10) for j in settings.JOINTS]
+        self._pub_state = rospy.Publisher(self._ns + '/teleop_state', TeleopState, queue_size=1,
+                                          latch=True)
+        self._pub_diag = rospy.Publisher('/diagnostics', DiagnosticArray, queue_size=10)
+
+        for j in settings.JOINTS:
+            rospy.Subscriber('%s/joint_%d/enc_stat' % (self._ns, j), String, self._on_status,
+                             callback_args=j, queue_size=10)
+        rospy.Subscriber(self._ns + '/joint_states', JointState, self._on_joint_states,
+                         queue_size=10, tcp_nodelay=True)
+        rospy.Subscriber(self._ns + '/heartbeat', Empty, self._on_heartbeat, queue_size=10)
+        rospy.Subscriber(self._ns + '/user_btn', UInt8, self._on_button, queue_size=10)
+        rospy.Subscriber('%s/gripper_%d' % (self._ns, GRIPPER_END_PIECE), Float32,
+                         self._on_end_piece, queue_size=10)
+        rospy.Subscriber('/robot/state', AssemblyState, self._on_robot_state, queue_size=10)
+        rospy.Subscriber('/robot/joint_states', JointState, self._on_robot_joints, queue_size=10)
+        for s in teleop.SIDES:
+            gripper = '/robot/end_effector/%s_gripper/' % s
+            rospy.Subscriber(gripper + 'properties', EndEffectorProperties,
+                             self._on_gripper_properties, callback_args=s, queue_size=1)
+            rospy.Subscriber(gripper + 'state', EndEffectorState, self._on_gripper_state,
+                             callback_args=s, queue_size=1)
+        self._timer = rospy.Timer(rospy.Duration(self._period_s / 2), self._on_timer)
+
+    # ---- puppet and robot input ----------------------------------------------------------
+
+    def _on_status(self, msg, joint):
+        with self._lock:
+            self._statuses[joint] = msg.data
+
+    def _on_joint_states(self, msg):
+        if len(msg.position) != settings.NUM_JOINTS:
+            rospy.logwarn_throttle(5, '%s: joint_states with %d positions ignored (want %d)',
+                                   self._name, len(msg.position), settings.NUM_JOINTS)
+            return
+        with self._lock:
+            now = rospy.get_time()
+            self._teleop.on_joint_states(now, list(self._statuses), list(msg.position))
+            self._run(now)  # act on fresh puppet data at once
+
+    def _on_heartbeat(self, msg):
+        with self._lock:
+            self._teleop.on_heartbeat(rospy.get_time())
+
+    def _on_button(self, msg):
+        with self._lock:
+            self._teleop.on_button(rospy.get_time(), msg.data)
+
+    def _on_end_piece(self, msg):
+        with self._lock:
+            self._teleop.on_end_piece(rospy.get_time(), msg.data)
+
+    def _on_robot_state(self, msg):
+        with self._lock:
+            self._robot_enabled = msg.enabled and not msg.stopped and not msg.error
+            self._robot_state_t = rospy.get_time()
+
+    def _on_robot_joints(self, msg):
+        position = dict(zip(msg.name, msg.position))
+        with self._lock:
+            for s in teleop.SIDES:
+                if all(n in position for n in self._joint_names[s]):
+                    self._robot_pose[s] = [position[n] for n in self._joint_names[s]]
+            self._robot_joints_t = rospy.get_time()
+
+    def _on_gripper_properties(self, msg, side):
+        with self._lock:
+            self._gripper_id[side] = msg.id
+
+    def _on_gripper_state(self, msg, side):
+        with self._lock:
+            # An electric gripper ignores 'go' until calibrated (as after power-up): calibrate
+            # it, as the Rethink SDK does, and ask again while it has not done so.
+            now = rospy.get_time()
+            if (msg.calibrated != EndEffectorState.STATE_TRUE and msg.id
+                    and now - self._calibrate_sent_t[side] > GRIPPER_CALIBRATE_RETRY_S):
+                self._calibrate_sent_t[side] = now
+                self._gripper_id[side] = msg.id
+                self._send_gripper(side, EndEffectorCommand.CMD_CALIBRATE, {})
+                rospy.loginfo('%s: calibrating Baxter\'s %s gripper', self._name, side)
+
+    # ---- output --------------------------------------------------------------------------
+
+    def _on_timer(self, event):
+        with self._lock:
+            now = rospy.get_time()
+            if now - self._last_command_t >= self._period_s * 0.9:
+                self._run(now)
+
+    def _robot_present(self, now):
+        return all(t is not None and now - t < ROBOT_TIMEOUT_S
+                   for t in (self._robot_state_t, self._robot_joints_t))
+
+    def _run(self, now):
+        """Step the teleop state machine and carry out its decisions. Call with the lock held."""
+        present = self._robot_present(now)
+        self._teleop.on_robot(now, present and self._robot_enabled, self._robot_pose)
+        if not (present and self._robot_enabled) and now - self._last_enable_t > ENABLE_PERIOD_S:
+            self._last_enable_t = now
+            self._pub_enable.publish(Bool(True))
+        result = self._teleop.step(now)
+        for side, angles in result.commands.items():
+            self._pub_command[side].publish(JointCommand(
+                mode=JointCommand.POSITION_MODE, command=angles, names=self._joint_names[side]))
+        self._last_command_t = now
+        for action in result.actions:
+            self._carry_out(action)
+        self._report(now)
+
+    def _carry_out(self, action):
+        if isinstance(action, teleop.SetOpmode):
+            self._pub_opmode.publish(String(action.mode))
+        elif isinstance(action, teleop.SetSetpoints):
+            for publisher, angle in zip(self._pub_setpoint, action.angles):
+                publisher.publish(Float32(angle))
+        elif isinstance(action, teleop.Grip):
+            position = (EndEffectorState.POSITION_CLOSED if action.close
+                        else EndEffectorState.POSITION_OPEN)
+            self._send_gripper(action.side, EndEffectorCommand.CMD_GO, {'position': position})
+
+    def _send_gripper(self, side, command, args):
+        self._gripper_sequence += 1
+        self._pub_gripper[side].publish(EndEffectorCommand(
+            id=self._gripper_id[side], command=command, args=json.dumps(args),
+            sender=rospy.get_name(), sequence=self._gripper_sequence))
+
+    def _report(self, now):
+        tp = self._teleop
+        snapshot = (tp.state, tp.following['left'], tp.following['right'], tp.opmode, tp.detail)
+        if snapshot != self._published_state:
+            rospy.loginfo('%s: %s (%s)', self._name, tp.state, tp.detail)
+        elif now - self._last_state_t < STATE_PERIOD_S:
+            return
+        self._published_state, self._last_state_t = snapshot, now
+        msg = TeleopState(state=tp.state, follow_left=tp.following['left'],
+                          follow_right=tp.following['right'], opmode=tp.opmode,
+                          heartbeat_age=tp.heartbeat_age(now), detail=tp.detail)
+        msg.header.stamp = rospy.Time.from_sec(now)
+        self._pub_state.publish(msg)
+        values = [KeyValue(k, str(v)) for k, v in (
+            ('state', tp.state), ('follow_left', tp.following['left']),
+            ('follow_right', tp.following['right']), ('opmode', tp.opmode),
+            ('heartbeat_age_s', '%.2f' % tp.heartbeat_age(now)),
+            ('ignored_angles', tp.ignored_angles))]
+        diag = DiagnosticArray(status=[DiagnosticStatus(
+            level=DIAG_LEVEL[tp.state], name='%s: teleoperation' % self._name,
+            message='%s: %s' % (tp.state, tp.detail), hardware_id=self._ns, values=values)])
+        diag.header.stamp = msg.header.stamp
+        self._pub_diag.publish(diag)
+
+
+def main():
+    """Run the arm controller until shutdown."""
+    rospy.init_node('arm')
+    try:
+        ArmNode()
+    except (KeyError, ValueError) as error:
+        rospy.logfatal('arm node cannot start: %s', error)
+        raise SystemExit(1)
+    rospy.spin()

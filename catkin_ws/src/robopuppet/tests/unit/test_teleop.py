@@ -1,0 +1,275 @@
+"""Teleop state machine: every state under every input, mirroring, clamping, approach, watchdog."""
+import math
+
+import pytest
+
+from robopuppet import baxter_description, teleop
+from robopuppet.teleop import CALIBRATING, FAULT, FOLLOWING, NO_ROBOT, READY
+
+WORKING = ['Working'] * 7
+ONE_UNCALIBRATED = ['Working', 'Working', 'Uncalibrated', 'Working', 'Working', 'Working',
+                    'Working']
+LIMITS = {side: baxter_description.arm_limits(side) for side in teleop.SIDES}
+NEUTRAL = {side: [baxter_description.NEUTRAL_POSE[s]
+                  for s in baxter_description.ARM_JOINT_SUFFIXES] for side in teleop.SIDES}
+HAND = [0.1, -0.5, 0.2, 0.8, -0.1, 1.2, 0.3]  # within Baxter's limits, near neutral
+
+
+class Rig:
+    """A Teleop for puppet R with a clock, fed like the arm node feeds it."""
+
+    def __init__(self, side='R', **kwargs):
+        self.tp = teleop.Teleop(side, LIMITS, **kwargs)
+        self.t = 0.0
+        self.angles = list(NEUTRAL['right'])
+        self.statuses = WORKING
+
+    def feed(self, statuses=None, angles=None, heartbeat=True):
+        self.tp.on_joint_states(self.t, statuses or self.statuses, angles or self.angles)
+        if heartbeat:
+            self.tp.on_heartbeat(self.t)
+
+    def robot(self, enabled=True, pose=None):
+        self.tp.on_robot(self.t, enabled, pose or NEUTRAL)
+
+    def step(self, dt=0.01, feed=True):
+        self.t += dt
+        if feed:
+            self.feed()
+        return self.tp.step(self.t)
+
+    def press(self, button):
+        self.tp.on_button(self.t, button)
+        result = self.step()
+        self.tp.on_button(self.t, 0)
+        return result
+
+
+def enter(state):
+    """Return a Rig driven through real inputs into `state`."""
+    rig = Rig()
+    rig.robot(enabled=state != NO_ROBOT)
+    rig.statuses = ONE_UNCALIBRATED if state == CALIBRATING else WORKING
+    rig.step()
+    if state == FOLLOWING:
+        rig.press(3)
+    if state == FAULT:
+        rig.step(1.0, feed=False)
+    assert rig.tp.state == state
+    return rig
+
+
+def apply(rig, name):
+    """Apply one named input and step once."""
+    if name == 'robot_lost':
+        rig.robot(enabled=False)
+    elif name == 'robot_ok':
+        rig.robot(enabled=True)
+    elif name == 'uncalibrated':
+        rig.statuses = ONE_UNCALIBRATED
+    elif name == 'calibrated':
+        rig.statuses = WORKING
+    elif name == 'silent':
+        return rig.step(1.0, feed=False)
+    elif name == 'press_follow':
+        return rig.press(3)
+    elif name == 'press_hold':
+        return rig.press(1)
+    return rig.step()
+
+
+# Written out by hand from DESIGN section 6 and the issue, independently of teleop.TRANSITIONS.
+EXPECTED = {
+    NO_ROBOT: dict(robot_lost=NO_ROBOT, robot_ok=READY, uncalibrated=NO_ROBOT,
+                   calibrated=NO_ROBOT, silent=NO_ROBOT, press_follow=NO_ROBOT,
+                   press_hold=NO_ROBOT),
+    CALIBRATING: dict(robot_lost=NO_ROBOT, robot_ok=CALIBRATING, uncalibrated=CALIBRATING,
+                      calibrated=READY, silent=FAULT, press_follow=CALIBRATING,
+                      press_hold=CALIBRATING),
+    READY: dict(robot_lost=NO_ROBOT, robot_ok=READY, uncalibrated=CALIBRATING, calibrated=READY,
+                silent=FAULT, press_follow=FOLLOWING, press_hold=READY),
+    FOLLOWING: dict(robot_lost=NO_ROBOT, robot_ok=FOLLOWING, uncalibrated=CALIBRATING,
+                    calibrated=FOLLOWING, silent=FAULT, press_follow=READY,
+                    press_hold=FOLLOWING),
+    # From a fault, any input that brings fresh data ends it; a press then acts as usual.
+    FAULT: dict(robot_lost=NO_ROBOT, robot_ok=READY, uncalibrated=CALIBRATING, calibrated=READY,
+                silent=FAULT, press_follow=FOLLOWING, press_hold=READY),
+}
+
+
+@pytest.mark.parametrize('state, name', [(s, n) for s in EXPECTED for n in EXPECTED[s]])
+def test_every_state_under_every_input(state, name):
+    rig = enter(state)
+    apply(rig, name)
+    assert rig.tp.state == EXPECTED[state][name]
+    following = rig.tp.state == FOLLOWING
+    assert any(rig.tp.following.values()) == following
+    commands = rig.step().commands
+    assert bool(commands) == (rig.tp.state == FOLLOWING)
+
+
+def test_hold_only_when_calibrated_and_with_robot_pose_as_setpoints():
+    rig = enter(READY)
+    pose = {'left': [0.0] * 7, 'right': [0.3, -0.4, 0.5, 1.0, -0.2, 0.9, 0.1]}
+    rig.robot(pose=pose)
+    actions = rig.press(1).actions
+    assert actions == [teleop.SetOpmode('hold'), teleop.SetSetpoints(pose['right'])]
+    assert rig.press(1).actions == [teleop.SetOpmode('limp')]
+    calibrating = enter(CALIBRATING)
+    assert calibrating.press(1).actions == []
+    assert calibrating.tp.opmode == 'limp'
+
+
+def test_left_puppet_holds_to_left_arm():
+    rig = Rig('L')
+    rig.robot(pose={'left': [0.5] * 7, 'right': [-0.5] * 7})
+    rig.step()
+    assert rig.press(1).actions[1] == teleop.SetSetpoints([0.5] * 7)
+
+
+def test_button_acts_once_per_press_however_long_it_is_held():
+    rig = enter(READY)
+    for _ in range(50):  # the serial node reports the held button with every state set
+        rig.tp.on_button(rig.t, 3)
+        rig.step()
+    assert rig.tp.state == FOLLOWING
+    rig.tp.on_button(rig.t, 0)
+    rig.step()
+    assert rig.tp.state == FOLLOWING
+    rig.press(3)
+    assert rig.tp.state == READY
+
+
+def test_going_from_one_button_to_another_is_a_press():
+    rig = enter(READY)
+    rig.tp.on_button(rig.t, 3)
+    rig.step()
+    rig.tp.on_button(rig.t, 2)
+    rig.step()
+    assert rig.tp.following == {'left': True, 'right': True}
+
+
+def run_until_tracking(rig, side, steps=2000):
+    """Step until `side` tracks the puppet; return the command of the step after that."""
+    for _ in range(steps):
+        rig.step()
+        if rig.tp.tracking[side]:
+            return rig.step().commands[side]
+    raise AssertionError('never reached the puppet')
+
+
+def test_own_side_copies_and_other_side_mirrors():
+    rig = enter(READY)
+    rig.angles = list(HAND)
+    rig.press(3)
+    rig.press(2)
+    right = run_until_tracking(rig, 'right')
+    left = run_until_tracking(rig, 'left')
+    assert right == pytest.approx(HAND, abs=1e-9)
+    assert left == pytest.approx([-HAND[0], HAND[1], -HAND[2], HAND[3], -HAND[4], HAND[5],
+                                  -HAND[6]], abs=1e-9)
+
+
+def test_commands_are_clamped_to_baxter_limits():
+    rig = enter(READY)
+    rig.angles = [3.0, 3.0, -3.2, -1.0, 3.2, -2.0, 3.1]
+    rig.press(3)
+    for _ in range(3000):
+        command = rig.step().commands['right']
+        for angle, limit in zip(command, LIMITS['right']):
+            assert limit.lower <= angle <= limit.upper
+    assert command == pytest.approx([lim.upper if a > 0 else lim.lower
+                                     for a, lim in zip(rig.angles, LIMITS['right'])])
+
+
+def test_approach_is_slow_then_tracking_follows_at_joint_speed():
+    rig = enter(READY)
+    start = NEUTRAL['right']
+    rig.angles = [s + 1.0 for s in start]  # 1 rad away on every joint
+    rig.angles[3] = 1.5
+    previous = rig.press(3).commands['right']
+    assert max(abs(p - s) for p, s in zip(previous, start)) <= 0.5 * 0.01 + 1e-12, \
+        'following starts where the robot is'
+    steps = 1
+    while not rig.tp.tracking['right']:
+        command = rig.step(0.01).commands['right']
+        steps += 1
+        assert max(abs(c - p) for c, p in zip(command, previous)) <= 0.5 * 0.01 + 1e-12
+        previous = command
+    assert steps == pytest.approx(1.0 / (0.5 * 0.01), rel=0.05)
+    rig.angles = [a + 0.3 for a in rig.angles]  # a quick hand move, within limits
+    command = rig.step(0.01).commands['right']
+    speeds = [abs(c - p) / 0.01 for c, p in zip(command, previous)]
+    assert max(speeds) > 0.5, 'tracking is faster than the approach'
+    for speed, limit in zip(speeds, LIMITS['right']):
+        assert speed <= limit.velocity + 1e-9
+
+
+def test_non_finite_angles_are_ignored():
+    rig = enter(READY)
+    rig.angles = list(HAND)
+    rig.press(3)
+    run_until_tracking(rig, 'right')
+    bad = list(HAND)
+    bad[1], bad[4] = float('nan'), float('inf')
+    rig.tp.on_joint_states(rig.t, WORKING, bad)
+    command = rig.tp.step(rig.t + 0.01).commands['right']
+    assert all(math.isfinite(a) for a in command)
+    assert command == pytest.approx(HAND)
+    assert rig.tp.ignored_angles == 2
+
+
+def test_watchdog_stops_commands_when_joint_states_stop():
+    rig = enter(READY)
+    rig.press(3)
+    assert rig.step().commands
+    quiet_since = rig.t
+    while True:
+        step = rig.step(0.01, feed=False)
+        if not step.commands:
+            break
+    assert rig.t - quiet_since == pytest.approx(0.3, abs=0.011)
+    assert rig.tp.state == FAULT and 'joint states' in rig.tp.detail
+    assert rig.tp.following == {'left': False, 'right': False}
+
+
+def test_watchdog_catches_a_missing_heartbeat_and_needs_a_new_press():
+    rig = enter(READY)
+    rig.press(3)
+    last_beat = rig.t
+    while rig.tp.state != FAULT:
+        rig.t += 0.05
+        rig.feed(heartbeat=False)
+        rig.tp.step(rig.t)
+    assert rig.t - last_beat == pytest.approx(2.5, abs=0.06)
+    assert 'heartbeat' in rig.tp.detail
+    for _ in range(20):
+        assert not rig.step(0.05).commands  # data is fresh again, yet nothing follows
+    assert rig.tp.state == READY
+    rig.press(3)
+    assert rig.step().commands
+
+
+def test_fault_lets_a_holding_puppet_go_limp():
+    rig = enter(READY)
+    rig.press(1)
+    assert rig.tp.opmode == 'hold'
+    assert rig.step(1.0, feed=False).actions == [teleop.SetOpmode('limp')]
+
+
+def test_end_piece_closes_and_opens_the_following_grippers_only():
+    rig = enter(READY)
+    rig.press(3)
+    rig.tp.on_end_piece(rig.t, 0.05)
+    assert rig.step().actions == [teleop.Grip('right', True)]
+    rig.tp.on_end_piece(rig.t, 0.5)  # between the thresholds: no change
+    assert rig.step().actions == []
+    rig.tp.on_end_piece(rig.t, 0.95)
+    assert rig.step().actions == [teleop.Grip('right', False)]
+    rig.press(3)
+    rig.tp.on_end_piece(rig.t, 0.0)
+    assert rig.step().actions == []
+
+
+def test_mirror_negates_joints_0_2_4_6():
+    assert teleop.mirror([1, 2, 3, 4, 5, 6, 7]) == [-1, 2, -3, 4, -5, 6, -7]
