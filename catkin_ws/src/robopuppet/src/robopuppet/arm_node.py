@@ -31,7 +31,8 @@ class ArmNode:
     ROS API:
       Subscribes: <ns>/joint_states (sensor_msgs/JointState), <ns>/joint_J/enc_stat
         (std_msgs/String), <ns>/heartbeat (std_msgs/Empty), <ns>/user_btn (std_msgs/UInt8),
-        <ns>/gripper_3 (std_msgs/Float32, the end-piece button), /robot/state
+        <ns>/gripper_3 (std_msgs/Float32, the end-piece button), the other puppet's
+        teleop_state (an arm it drives is not taken by this one), /robot/state
         (baxter_core_msgs/AssemblyState), /robot/joint_states (sensor_msgs/JointState),
         /robot/end_effector/<side>_gripper/state and .../properties (baxter_core_msgs).
       Publishes: /robot/limb/<side>/joint_command (baxter_core_msgs/JointCommand, position mode),
@@ -91,6 +92,9 @@ class ArmNode:
         rospy.Subscriber(self._ns + '/user_btn', UInt8, self._on_button, queue_size=10)
         rospy.Subscriber('%s/gripper_%d' % (self._ns, GRIPPER_END_PIECE), Float32,
                          self._on_end_piece, queue_size=10)
+        other = settings.namespace('L' if side == 'R' else 'R')
+        rospy.Subscriber(other + '/teleop_state', TeleopState, self._on_other_puppet,
+                         queue_size=10)
         rospy.Subscriber('/robot/state', AssemblyState, self._on_robot_state, queue_size=10)
         rospy.Subscriber('/robot/joint_states', JointState, self._on_robot_joints, queue_size=10)
         for s in teleop.SIDES:
@@ -128,6 +132,10 @@ class ArmNode:
     def _on_end_piece(self, msg):
         with self._lock:
             self._teleop.on_end_piece(rospy.get_time(), msg.data)
+
+    def _on_other_puppet(self, msg):
+        with self._lock:
+            self._teleop.on_other_puppet(rospy.get_time(), msg.follow_left, msg.follow_right)
 
     def _on_robot_state(self, msg):
         with self._lock:

@@ -104,6 +104,7 @@ class Teleop:
         self._robot_ok = False
         self._robot_pose = {}      # side -> 7 angles (rad)
         self._commands = {}        # side -> 7 angles last commanded (rad)
+        self._claimed = {side: False for side in SIDES}  # driven by the other puppet
         self._button = 0
         self._pressed = []         # button presses not yet acted on
         self._grip_reading = None
@@ -138,6 +139,10 @@ class Teleop:
         """Take the end-piece button reading (gripper 3: about 1 released, 0 pressed)."""
         if math.isfinite(reading):
             self._grip_reading = reading
+
+    def on_other_puppet(self, t, follow_left, follow_right):
+        """Take which Baxter arms the other puppet drives; this one will not take them too."""
+        self._claimed = {'left': follow_left, 'right': follow_right}
 
     def on_robot(self, t, enabled, pose):
         """Take Baxter's state: enabled (bool) and {side: 7 joint angles rad} of its arms."""
@@ -218,6 +223,9 @@ class Teleop:
     def _toggle_follow(self, side):
         if self.following[side]:
             self.following[side] = False
+        elif self._claimed[side]:
+            self.detail = 'the other puppet drives Baxter\'s %s arm already' % side
+            return
         elif side in self._robot_pose:
             self.following[side] = True
             self.tracking[side] = False

@@ -273,3 +273,16 @@ def test_end_piece_closes_and_opens_the_following_grippers_only():
 
 def test_mirror_negates_joints_0_2_4_6():
     assert teleop.mirror([1, 2, 3, 4, 5, 6, 7]) == [-1, 2, -3, 4, -5, 6, -7]
+
+
+def test_an_arm_driven_by_the_other_puppet_is_not_taken():
+    rig = enter(READY)
+    rig.tp.on_other_puppet(rig.t, False, True)
+    rig.press(3)
+    assert rig.tp.state == READY and not rig.tp.following['right']
+    assert 'other puppet' in rig.tp.detail
+    rig.press(2)
+    assert rig.tp.following == {'left': True, 'right': False}
+    rig.tp.on_other_puppet(rig.t, False, False)
+    rig.press(3)
+    assert rig.tp.following == {'left': True, 'right': True}
