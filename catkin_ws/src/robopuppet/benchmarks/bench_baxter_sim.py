@@ -1,0 +1,136 @@
+#!/usr/bin/python3
+"""Benchmark baxter_sim: /robot/joint_states rate and jitter while both arms are commanded at 100 Hz.
+
+Usage (after `. tools/env.sh`): bench_baxter_sim.py [DURATION_S]  (default 20)
+Starts its own roscore on a free port and the baxter_sim node, enables the robot, sends mode-1
+joint commands to both arms at 100 Hz, and prints the joint_states rate, the inter-message
+jitter (|interval - 10 ms|, from header stamps = the node's loop, and from arrival times = what
+a subscriber sees) and the node's CPU share (% of one core). For comparison it first measures
+the jitter of a bare Python 100 Hz sleep loop: the floor that this machine's load allows.
+"""
+import math
+import os
+import socket
+import subprocess
+import sys
+import threading
+import time
+
+import psutil
+
+NODE = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), 'nodes',
+                    'baxter_sim')
+NOMINAL_S = 0.01
+
+
+def free_port():
+    with socket.socket() as sock:
+        sock.bind(('127.0.0.1', 0))
+        return sock.getsockname()[1]
+
+
+def percentile(values, fraction):
+    ordered = sorted(values)
+    return ordered[min(len(ordered) - 1, int(math.ceil(fraction * len(ordered))) - 1)]
+
+
+def command_loop(rospy, publishers, stop):
+    """Send both arms a slow sine wave in position mode at 100 Hz."""
+    from baxter_core_msgs.msg import JointCommand
+    from robopuppet import baxter_description as bd
+    rate = rospy.Rate(100)
+    start = time.monotonic()
+    while not stop.is_set() and not rospy.is_shutdown():
+        phase = 0.5 * math.sin(time.monotonic() - start)
+        for side, pub in publishers.items():
+            names = bd.arm_joint_names(side)
+            targets = [bd.NEUTRAL_POSE[n.split('_')[1]] + phase for n in names]
+            pub.publish(JointCommand(mode=JointCommand.POSITION_MODE, names=names,
+                                     command=targets))
+        rate.sleep()
+
+
+def sleep_loop_intervals(duration_s):
+    """Return the intervals of a bare Python 100 Hz sleep loop: this machine's jitter floor."""
+    wakes = []
+    deadline = time.monotonic()
+    end = deadline + duration_s
+    while deadline < end:
+        deadline += NOMINAL_S
+        time.sleep(max(0.0, deadline - time.monotonic()))
+        wakes.append(time.monotonic())
+    return [b - a for a, b in zip(wakes, wakes[1:])]
+
+
+def report(name, intervals_s):
+    jitter_ms = [abs(i - NOMINAL_S) * 1000.0 for i in intervals_s]
+    print('  %-8s interval mean %.3f ms, p50 %.3f ms, max %.3f ms; jitter p99 %.3f ms, max %.3f ms'
+          % (name, 1000.0 * sum(intervals_s) / len(intervals_s),
+             1000.0 * percentile(intervals_s, 0.5), 1000.0 * max(intervals_s),
+             percentile(jitter_ms, 0.99), max(jitter_ms)))
+
+
+def main():
+    duration_s = float(sys.argv[1]) if len(sys.argv) > 1 else 20.0
+    floor = sleep_loop_intervals(5.0)
+    port = free_port()
+    os.environ['ROS_MASTER_URI'] = 'http://localhost:%d' % port
+    core = subprocess.Popen(['roscore', '-p', str(port)], stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL)
+    node = None
+    try:
+        time.sleep(3.0)
+        node = subprocess.Popen([NODE], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        import rospy
+        from baxter_core_msgs.msg import JointCommand
+        from sensor_msgs.msg import JointState
+        from std_msgs.msg import Bool
+        rospy.init_node('bench_baxter_sim', disable_signals=True)
+        arrivals, stamps = [], []
+        recording = threading.Event()
+
+        def on_joint_states(msg):
+            if recording.is_set():
+                arrivals.append(time.monotonic())
+                stamps.append(msg.header.stamp.to_sec())
+
+        rospy.Subscriber('/robot/joint_states', JointState, on_joint_states, queue_size=100)
+        rospy.wait_for_message('/robot/joint_states', JointState, timeout=20.0)
+        enable = rospy.Publisher('/robot/set_super_enable', Bool, queue_size=1, latch=True)
+        enable.publish(Bool(True))
+        publishers = {side: rospy.Publisher('/robot/limb/%s/joint_command' % side,
+                                            JointCommand, queue_size=10)
+                      for side in ('left', 'right')}
+        stop = threading.Event()
+        commander = threading.Thread(target=command_loop, args=(rospy, publishers, stop))
+        commander.start()
+        time.sleep(2.0)   # connections settle, the arms start moving
+        process = psutil.Process(node.pid)
+        cpu_before, wall_before = process.cpu_times(), time.monotonic()
+        recording.set()
+        time.sleep(duration_s)
+        recording.clear()
+        cpu_after, wall_after = process.cpu_times(), time.monotonic()
+        stop.set()
+        commander.join()
+        cpu_s = (cpu_after.user + cpu_after.system) - (cpu_before.user + cpu_before.system)
+        print('baxter_sim benchmark: %.0f s, both arms commanded at 100 Hz (mode 1)' % duration_s)
+        print('  /robot/joint_states: %d messages, %.1f Hz (stamps), %.1f Hz (arrivals)'
+              % (len(stamps), (len(stamps) - 1) / (stamps[-1] - stamps[0]),
+                 (len(arrivals) - 1) / (arrivals[-1] - arrivals[0])))
+        report('stamps', [b - a for a, b in zip(stamps, stamps[1:])])
+        report('arrivals', [b - a for a, b in zip(arrivals, arrivals[1:])])
+        report('floor', floor)
+        print('  (floor: a bare Python 100 Hz time.sleep loop, measured for 5 s before the run)')
+        print('  node CPU: %.1f %% of one core (%d cores on this machine)'
+              % (100.0 * cpu_s / (wall_after - wall_before), psutil.cpu_count()))
+        rospy.signal_shutdown('benchmark done')
+    finally:
+        for process in (node, core):
+            if process is not None:
+                process.terminate()
+                process.wait(timeout=10)
+
+
+if __name__ == '__main__':
+    main()

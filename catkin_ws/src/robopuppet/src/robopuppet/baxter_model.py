@@ -1,0 +1,346 @@
+"""Kinematic motion model of Baxter for the stand-in: enable state, both arms, both grippers.
+
+Pure: every method that changes with time takes `now_s` (seconds, any monotonic origin); nothing
+here reads a clock or imports rospy. Joint names and limits come from baxter_description.
+"""
+import json
+import math
+
+from robopuppet import baxter_description as bd
+
+POSITION_MODE = 1       # baxter_core_msgs/JointCommand.POSITION_MODE: smoothed, speed-ratio scaled
+RAW_POSITION_MODE = 4   # baxter_core_msgs/JointCommand.RAW_POSITION_MODE: at the velocity limit
+DEFAULT_SPEED_RATIO = 0.3
+DEFAULT_COMMAND_TIMEOUT_S = 0.2
+# Mode 1 approaches its target as a first-order lag with this time constant (capped in speed).
+SMOOTHING_TIME_S = 0.05
+
+GRIPPER_OPEN = 100.0    # % of finger travel; 0 is closed
+# Electric gripper parameters of the `configure` command (% of maximum), with the SDK's defaults.
+GRIPPER_DEFAULTS = {'velocity': 50.0, 'moving_force': 40.0, 'holding_force': 30.0,
+                    'dead_zone': 5.0}
+
+
+class CommandError(ValueError):
+    """A command is malformed or not allowed now; it was dropped."""
+
+
+class NotEnabledError(CommandError):
+    """A motion command arrived while the robot is disabled; it was dropped."""
+
+
+def _finite(value, what):
+    try:
+        value = float(value)
+    except (TypeError, ValueError) as error:
+        raise CommandError('%s must be a number, got %r' % (what, value)) from error
+    if not math.isfinite(value):
+        raise CommandError('%s must be finite, got %r' % (what, value))
+    return value
+
+
+def _approach(position, target, max_step, smoothing_factor):
+    """Return the next position: a fraction of the way to target, at most max_step."""
+    step = (target - position) * smoothing_factor
+    return position + max(-max_step, min(max_step, step))
+
+
+class Arm:
+    """One arm: 7 joints following position commands within their limits.
+
+    Positions in rad, speeds in rad/s, times in s.
+    """
+
+    def __init__(self, side, description, now_s):
+        self.side = side
+        self.limits = {lim.name: lim for lim in description.arm_limits(side)}
+        self.positions = dict(bd.neutral_pose(side))
+        self.velocities = {name: 0.0 for name in self.limits}
+        self.targets = dict(self.positions)
+        self.mode = POSITION_MODE
+        self.speed_ratio = DEFAULT_SPEED_RATIO
+        self.command_timeout_s = DEFAULT_COMMAND_TIMEOUT_S
+        self.last_command_s = None
+        self.last_step_s = now_s
+
+    def hold(self):
+        """Stop where the arm is."""
+        self.targets = dict(self.positions)
+        self.last_command_s = None
+
+    def command(self, mode, names, values, now_s):
+        """Take new targets; names may be any subset of this arm's joints, in any order.
+
+        Targets outside a joint's limits are clamped to the limit.
+
+        Raises:
+            CommandError: unknown mode or joint name, length mismatch, non-finite value.
+        """
+        if mode not in (POSITION_MODE, RAW_POSITION_MODE):
+            raise CommandError('joint command mode %r refused: only position (1) and raw '
+                               'position (4) are supported' % (mode,))
+        if len(names) != len(values):
+            raise CommandError('joint command has %d names but %d values'
+                               % (len(names), len(values)))
+        unknown = [n for n in names if n not in self.limits]
+        if unknown:
+            raise CommandError('joint command names unknown to the %s arm: %s'
+                               % (self.side, ', '.join(map(str, unknown))))
+        targets = {}
+        for name, value in zip(names, values):
+            limit = self.limits[name]
+            targets[name] = min(limit.upper, max(limit.lower, _finite(value, name)))
+        self.targets.update(targets)
+        self.mode = mode
+        self.last_command_s = now_s
+
+    def step(self, now_s):
+        """Move toward the targets until now_s; hold once commands are older than the timeout."""
+        dt = now_s - self.last_step_s
+        if dt <= 0.0:
+            return
+        self.last_step_s = now_s
+        active_s = 0.0
+        if self.last_command_s is not None:
+            deadline_s = self.last_command_s + self.command_timeout_s
+            active_s = max(0.0, min(dt, deadline_s - (now_s - dt)))
+            if now_s >= deadline_s:
+                self.last_command_s = None  # commands stopped: hold after this step
+        smoothing = 1.0
+        ratio = 1.0
+        if self.mode == POSITION_MODE:
+            smoothing = 1.0 - math.exp(-active_s / SMOOTHING_TIME_S)
+            ratio = self.speed_ratio
+        for name, limit in self.limits.items():
+            old = self.positions[name]
+            new = _approach(old, self.targets[name], ratio * limit.velocity * active_s, smoothing)
+            self.positions[name] = new
+            self.velocities[name] = (new - old) / dt
+        if self.last_command_s is None:
+            self.targets = dict(self.positions)
+
+
+class Gripper:
+    """One electric gripper: position 0 (closed) ... 100 (open), moving at a finite speed.
+
+    Args:
+        max_speed_pct_s: speed at velocity parameter 100 (% of travel per second).
+        calibrated: whether it starts calibrated (the real one does not after power-up).
+    """
+
+    def __init__(self, max_speed_pct_s, calibrated, now_s):
+        self.max_speed_pct_s = max_speed_pct_s
+        self.position = GRIPPER_OPEN
+        self.speed_pct_s = 0.0
+        self.target = GRIPPER_OPEN
+        self.parameters = dict(GRIPPER_DEFAULTS)
+        self.calibrated = calibrated
+        self.calibrating = False
+        self.error = False
+        self.missed = False
+        self.last_command = ('', '', 0)   # (command, sender, sequence), echoed in the state
+        self.last_step_s = now_s
+
+    @property
+    def moving(self):
+        return self.position != self.target
+
+    def command(self, command, args, sender, sequence):
+        """Handle an EndEffectorCommand; it is acknowledged even when refused.
+
+        Args:
+            command: 'go', 'calibrate', 'clear_calibration', 'reset', 'stop', 'configure',
+                'reboot' or 'no_op'.
+            args: the command's JSON argument text ('' for none).
+
+        Raises:
+            CommandError: unknown command, bad arguments, or go while uncalibrated.
+        """
+        self.last_command = (command, sender, sequence)
+        try:
+            args = json.loads(args) if args.strip() else {}
+        except ValueError as error:
+            raise CommandError('gripper %s: args are not JSON: %r' % (command, args)) from error
+        if not isinstance(args, dict):
+            raise CommandError('gripper %s: args must be a JSON object' % command)
+        if command == 'go':
+            if not self.calibrated:
+                raise CommandError('gripper go refused: not calibrated (send calibrate first)')
+            if 'position' not in args:
+                raise CommandError('gripper go needs {"position": 0..100}')
+            self.target = min(GRIPPER_OPEN, max(0.0, _finite(args['position'], 'position')))
+            self.missed = False
+        elif command == 'configure':
+            unknown = set(args) - set(GRIPPER_DEFAULTS)
+            if unknown:
+                raise CommandError('gripper configure: unknown parameters %s'
+                                   % ', '.join(sorted(unknown)))
+            for key, value in args.items():
+                self.parameters[key] = min(100.0, max(0.0, _finite(value, key)))
+        elif command == 'calibrate':
+            self.calibrated, self.calibrating = False, True
+            self.target = GRIPPER_OPEN
+        elif command in ('clear_calibration', 'reboot'):
+            self.calibrated = self.calibrating = False
+            self.target = self.position
+            self.error = self.error and command != 'reboot'
+        elif command == 'reset':
+            self.error = False
+        elif command == 'stop':
+            self.target = self.position
+            self.calibrating = False
+        elif command != 'no_op':
+            raise CommandError('gripper command %r is not supported by the electric gripper'
+                               % (command,))
+
+    def step(self, now_s, enabled):
+        """Move toward the target until now_s (only while the robot is enabled)."""
+        dt = now_s - self.last_step_s
+        if dt <= 0.0:
+            return
+        self.last_step_s = now_s
+        if not enabled:
+            self.target = self.position
+            self.speed_pct_s = 0.0
+            self.calibrating = False
+            return
+        old = self.position
+        max_step = self.max_speed_pct_s * self.parameters['velocity'] / 100.0 * dt
+        self.position = _approach(old, self.target, max_step, 1.0)
+        self.speed_pct_s = (self.position - old) / dt
+        if self.moving:
+            return
+        if self.calibrating:
+            self.calibrated, self.calibrating = True, False
+        elif old != self.position:
+            # Nothing is ever grasped here: a close that reaches the end of travel missed.
+            self.missed = self.position <= self.parameters['dead_zone']
+
+
+class BaxterModel:
+    """Baxter's enable state, both arms and both grippers.
+
+    Args:
+        description: a baxter_description.Description.
+        now_s: the start time.
+        gripper_calibrated: whether the grippers start calibrated.
+    """
+
+    def __init__(self, description, now_s, gripper_calibrated=False):
+        self.description = description
+        self.enabled = False
+        self.stopped = False
+        self.arms = {side: Arm(side, description, now_s) for side in bd.SIDES}
+        self.fingers = {side: bd.gripper_finger_joints(side) for side in bd.SIDES}
+        travel_m = {side: description.limit(self.fingers[side][0]).upper for side in bd.SIDES}
+        self.finger_travel_m = travel_m
+        self.grippers = {}
+        for side in bd.SIDES:
+            speed = description.limit(self.fingers[side][0]).velocity / travel_m[side] * 100.0
+            self.grippers[side] = Gripper(speed, gripper_calibrated, now_s)
+        self.head_pan_rad = 0.0
+
+    # -- enable state (/robot/set_super_enable, _reset, _stop) --
+    def set_enabled(self, enable):
+        """Enable or disable; arms hold where they are either way.
+
+        Raises:
+            CommandError: enabling while stopped (reset first).
+        """
+        if enable and self.stopped:
+            raise CommandError('cannot enable: the robot is stopped; reset it first')
+        self.enabled = bool(enable)
+        for arm in self.arms.values():
+            arm.hold()
+
+    def stop(self):
+        """Software e-stop: disable and latch stopped until reset."""
+        self.set_enabled(False)
+        self.stopped = True
+
+    def reset(self):
+        """Clear the stopped state and errors; the robot stays disabled."""
+        self.set_enabled(False)
+        self.stopped = False
+
+    # -- commands --
+    def _arm(self, side):
+        if side not in self.arms:
+            raise CommandError('unknown arm side %r' % (side,))
+        return self.arms[side]
+
+    def joint_command(self, side, mode, names, values, now_s):
+        """Apply a JointCommand to one arm (see Arm.command).
+
+        Raises:
+            NotEnabledError: the robot is disabled.
+            CommandError: the command is malformed.
+        """
+        if not self.enabled:
+            raise NotEnabledError('joint command for the %s arm ignored: robot disabled' % side)
+        self._arm(side).command(mode, list(names), list(values), now_s)
+
+    def set_speed_ratio(self, side, ratio):
+        """Set the mode-1 speed as a fraction 0..1 of the velocity limits."""
+        ratio = _finite(ratio, 'speed ratio')
+        if not 0.0 <= ratio <= 1.0:
+            raise CommandError('speed ratio must be within 0..1, got %g' % ratio)
+        self._arm(side).speed_ratio = ratio
+
+    def set_command_timeout(self, side, timeout_s):
+        """Set how long the arm follows its last command before holding (s, > 0)."""
+        timeout_s = _finite(timeout_s, 'joint command timeout')
+        if timeout_s <= 0.0:
+            raise CommandError('joint command timeout must be > 0 s, got %g' % timeout_s)
+        self._arm(side).command_timeout_s = timeout_s
+
+    def gripper_command(self, side, command, args, sender, sequence):
+        """Apply an EndEffectorCommand to one gripper (see Gripper.command)."""
+        if side not in self.grippers:
+            raise CommandError('unknown gripper side %r' % (side,))
+        self.grippers[side].command(command, args, sender, sequence)
+
+    # -- time --
+    def step(self, now_s):
+        """Advance arms and grippers to now_s."""
+        for arm in self.arms.values():
+            if self.enabled:
+                arm.step(now_s)
+            else:
+                arm.last_step_s = now_s
+                arm.velocities = dict.fromkeys(arm.velocities, 0.0)
+        for gripper in self.grippers.values():
+            gripper.step(now_s, self.enabled)
+
+    # -- outputs --
+    def positions(self):
+        """Return {joint name: position} of every movable joint (rad, m for fingers)."""
+        result = {bd.HEAD_PAN: self.head_pan_rad}
+        for side in bd.SIDES:
+            result.update(self.arms[side].positions)
+            driven, mimic = self.fingers[side]
+            opening_m = self.grippers[side].position / GRIPPER_OPEN * self.finger_travel_m[side]
+            result[driven], result[mimic] = opening_m, -opening_m
+        return result
+
+    def joint_state(self):
+        """Return (names, positions, velocities, efforts), equal-length lists.
+
+        Names are every movable URDF joint plus torso_t0, sorted; effort is always 0.
+        """
+        positions = self.positions()
+        velocities = dict.fromkeys(positions, 0.0)
+        for side in bd.SIDES:
+            velocities.update(self.arms[side].velocities)
+            driven, mimic = self.fingers[side]
+            speed = (self.grippers[side].speed_pct_s / GRIPPER_OPEN
+                     * self.finger_travel_m[side])
+            velocities[driven], velocities[mimic] = speed, -speed
+        positions[bd.TORSO] = velocities[bd.TORSO] = 0.0
+        names = sorted(positions)
+        return (names, [positions[n] for n in names], [velocities[n] for n in names],
+                [0.0] * len(names))
+
+    def endpoint_pose(self, side):
+        """Return ((x, y, z) m, (qx, qy, qz, qw)) of the side's gripper link in base."""
+        return self.description.pose(self.positions(), bd.gripper_link(side))

@@ -1,0 +1,192 @@
+"""ROS node baxter_sim: a kinematic Baxter stand-in that speaks Baxter's own ROS API.
+
+The motion is robopuppet.baxter_model; this module only wires it to topics.
+"""
+import sys
+import threading
+
+import rospy
+from baxter_core_msgs.msg import (AssemblyState, EndEffectorCommand, EndEffectorProperties,
+                                  EndEffectorState, EndpointState, JointCommand)
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Bool, Empty, Float64
+
+from robopuppet import baxter_description as bd
+from robopuppet.baxter_model import BaxterModel, CommandError, NotEnabledError
+
+SOFTWARE_VERSION = '1.2.0'
+# The electric gripper's hardware id; the SDK copies it from the state into every command.
+GRIPPER_ID = 65538
+GRIPPER_FIRMWARE_DATE = '2014/11/05 14:43:21'   # the SDK 1.2 warns for dates before 2014/05/20
+STATE_EVERY_N_CYCLES = 5                        # /robot/state at rate_hz / 5
+SWITCH_INTERVAL_S = 0.0005
+
+
+def gripper_properties(side):
+    """Return the EndEffectorProperties of a side's electric gripper."""
+    return EndEffectorProperties(
+        id=GRIPPER_ID, ui_type=EndEffectorProperties.ELECTRIC_GRIPPER,
+        manufacturer='Rethink Research Robot', product='Electric Parallel Gripper',
+        serial_number='RP-SIM-%s' % side.upper(), hardware_rev='1', firmware_rev='1.2.0',
+        firmware_date=GRIPPER_FIRMWARE_DATE, has_calibration=True, controls_grip=True,
+        senses_grip=True, reverses_grip=False, controls_force=True, senses_force=True,
+        controls_position=True, senses_position=True, properties='')
+
+
+class BaxterSimNode:
+    """Publish Baxter's state and obey its commands, through BaxterModel.
+
+    ROS API:
+      Subscribes: /robot/set_super_enable (std_msgs/Bool), /robot/set_super_reset and
+        /robot/set_super_stop (std_msgs/Empty), /robot/limb/<side>/joint_command
+        (baxter_core_msgs/JointCommand), /robot/limb/<side>/set_speed_ratio (std_msgs/Float64,
+        0..1), /robot/limb/<side>/joint_command_timeout (std_msgs/Float64, s),
+        /robot/end_effector/<side>_gripper/command (baxter_core_msgs/EndEffectorCommand).
+      Publishes: /robot/joint_states (sensor_msgs/JointState, every cycle), /robot/state
+        (baxter_core_msgs/AssemblyState, latched, rate_hz/5 and on change),
+        /robot/limb/<side>/endpoint_state (baxter_core_msgs/EndpointState, frame base, every
+        cycle), /robot/end_effector/<side>_gripper/state (EndEffectorState, every cycle) and
+        .../properties (EndEffectorProperties, latched).
+      Sets: /rethink/software_version = '1.2.0'.
+      Parameters: /robot_description (URDF text; the package's urdf/baxter.urdf when unset),
+        ~rate_hz (float, 100), ~joint_command_timeout (float s, 0.2, initial value for both
+        arms), ~gripper_calibrated (bool, false: like the real grippers after power-up).
+    """
+
+    def __init__(self):
+        text = rospy.get_param('/robot_description', None)
+        description = bd.Description(text) if text else bd.load()
+        self._rate_hz = float(rospy.get_param('~rate_hz', 100.0))
+        self._lock = threading.Lock()
+        self._model = BaxterModel(description, rospy.get_time(),
+                                  gripper_calibrated=rospy.get_param('~gripper_calibrated', False))
+        for side in bd.SIDES:
+            self._model.set_command_timeout(side, rospy.get_param('~joint_command_timeout', 0.2))
+        rospy.set_param('/rethink/software_version', SOFTWARE_VERSION)
+        self._state_pub = rospy.Publisher('/robot/state', AssemblyState, queue_size=1, latch=True)
+        self._joint_pub = rospy.Publisher('/robot/joint_states', JointState, queue_size=10)
+        self._endpoint_pub, self._gripper_pub = {}, {}
+        for side in bd.SIDES:
+            limb = '/robot/limb/%s/' % side
+            gripper = '/robot/end_effector/%s_gripper/' % side
+            self._endpoint_pub[side] = rospy.Publisher(limb + 'endpoint_state', EndpointState,
+                                                       queue_size=10)
+            self._gripper_pub[side] = rospy.Publisher(gripper + 'state', EndEffectorState,
+                                                      queue_size=10)
+            rospy.Publisher(gripper + 'properties', EndEffectorProperties, queue_size=1,
+                            latch=True).publish(gripper_properties(side))
+            rospy.Subscriber(limb + 'joint_command', JointCommand, self._on_joint_command,
+                             side, queue_size=10)
+            rospy.Subscriber(limb + 'set_speed_ratio', Float64, self._on_setting,
+                             (self._model.set_speed_ratio, side), queue_size=10)
+            rospy.Subscriber(limb + 'joint_command_timeout', Float64, self._on_setting,
+                             (self._model.set_command_timeout, side), queue_size=10)
+            rospy.Subscriber(gripper + 'command', EndEffectorCommand, self._on_gripper_command,
+                             side, queue_size=10)
+        rospy.Subscriber('/robot/set_super_enable', Bool, self._on_enable, queue_size=10)
+        rospy.Subscriber('/robot/set_super_reset', Empty, self._on_enable_action,
+                         self._model.reset, queue_size=10)
+        rospy.Subscriber('/robot/set_super_stop', Empty, self._on_enable_action,
+                         self._model.stop, queue_size=10)
+        self._publish_state()
+
+    def _apply(self, action, *args):
+        """Run a model call under the lock; log (never raise) a refused command."""
+        with self._lock:
+            try:
+                action(*args)
+            except NotEnabledError as error:
+                rospy.logwarn_throttle(2.0, str(error))
+                return False
+            except CommandError as error:
+                rospy.logwarn(str(error))
+                return False
+        return True
+
+    def _on_joint_command(self, msg, side):
+        self._apply(self._model.joint_command, side, msg.mode, msg.names, msg.command,
+                    rospy.get_time())
+
+    def _on_setting(self, msg, setter_side):
+        setter, side = setter_side
+        self._apply(setter, side, msg.data)
+
+    def _on_gripper_command(self, msg, side):
+        if msg.id != GRIPPER_ID:
+            rospy.logwarn('%s gripper command %r ignored: id %d is not this gripper\'s %d',
+                          side, msg.command, msg.id, GRIPPER_ID)
+            return
+        self._apply(self._model.gripper_command, side, msg.command, msg.args, msg.sender,
+                    msg.sequence)
+
+    def _on_enable(self, msg):
+        if self._apply(self._model.set_enabled, msg.data):
+            rospy.loginfo('robot %s', 'enabled' if msg.data else 'disabled')
+        self._publish_state()
+
+    def _on_enable_action(self, _msg, action):
+        self._apply(action)
+        rospy.loginfo('robot %s', 'stopped' if action == self._model.stop else 'reset')
+        self._publish_state()
+
+    def _publish_state(self):
+        with self._lock:
+            enabled, stopped = self._model.enabled, self._model.stopped
+        self._state_pub.publish(AssemblyState(
+            ready=enabled and not stopped, enabled=enabled, stopped=stopped, error=False,
+            estop_button=AssemblyState.ESTOP_BUTTON_UNPRESSED,
+            estop_source=(AssemblyState.ESTOP_SOURCE_USER if stopped
+                          else AssemblyState.ESTOP_SOURCE_NONE)))
+
+    def _publish_cycle(self, stamp):
+        with self._lock:
+            self._model.step(stamp.to_sec())
+            names, positions, velocities, efforts = self._model.joint_state()
+            poses = {side: self._model.endpoint_pose(side) for side in bd.SIDES}
+            enabled = self._model.enabled
+            grippers = [(side, self._gripper_state(side, stamp, enabled)) for side in bd.SIDES]
+        joints = JointState(name=names, position=positions, velocity=velocities, effort=efforts)
+        joints.header.stamp = stamp
+        self._joint_pub.publish(joints)
+        for side, ((x, y, z), (qx, qy, qz, qw)) in poses.items():
+            endpoint = EndpointState()
+            endpoint.header.stamp = stamp
+            endpoint.header.frame_id = bd.BASE_FRAME
+            p, o = endpoint.pose.position, endpoint.pose.orientation
+            p.x, p.y, p.z, o.x, o.y, o.z, o.w = x, y, z, qx, qy, qz, qw
+            self._endpoint_pub[side].publish(endpoint)
+        for side, state in grippers:
+            self._gripper_pub[side].publish(state)
+
+    def _gripper_state(self, side, stamp, enabled):
+        gripper = self._model.grippers[side]
+        command, sender, sequence = gripper.last_command
+        return EndEffectorState(
+            timestamp=stamp, id=GRIPPER_ID, enabled=enabled, calibrated=gripper.calibrated,
+            ready=enabled and not gripper.moving and not gripper.error, moving=gripper.moving,
+            gripping=False, missed=gripper.missed, error=gripper.error, reverse=False,
+            position=gripper.position, force=0.0, state='', command=command,
+            command_sender=sender, command_sequence=sequence)
+
+    def spin(self):
+        """Step and publish at rate_hz until shutdown."""
+        rate = rospy.Rate(self._rate_hz)
+        cycle = 0
+        while not rospy.is_shutdown():
+            self._publish_cycle(rospy.get_rostime())
+            cycle += 1
+            if cycle % STATE_EVERY_N_CYCLES == 0:
+                self._publish_state()
+            try:
+                rate.sleep()
+            except rospy.ROSInterruptException:
+                break
+
+
+def main():
+    """Run the baxter_sim node."""
+    # The publishing loop must wake on time: let it take the GIL from subscriber threads within
+    # 0.5 ms instead of Python's default 5 ms.
+    sys.setswitchinterval(SWITCH_INTERVAL_S)
+    rospy.init_node('baxter_sim')
+    BaxterSimNode().spin()

@@ -1,0 +1,237 @@
+#!/usr/bin/python3
+"""rostest: baxter_sim obeys Baxter's ROS API; its endpoint_state equals robot_state_publisher's tf."""
+import json
+import math
+import os
+import subprocess
+import threading
+import time
+import unittest
+
+import rospkg
+import rospy
+import rostest
+import tf2_ros
+from baxter_core_msgs.msg import (AssemblyState, EndEffectorCommand, EndEffectorProperties,
+                                  EndEffectorState, EndpointState, JointCommand)
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Bool, Empty
+
+from robopuppet import baxter_description as bd
+
+URDF = os.path.join(rospkg.RosPack().get_path('robopuppet'), 'urdf', 'baxter.urdf')
+DESC = bd.load(URDF)
+
+
+class Latest:
+    """Keep the last message of a topic, and optionally all of them."""
+
+    def __init__(self, topic, msg_type):
+        self.msg = None
+        self.log = None
+        self.lock = threading.Lock()
+        rospy.Subscriber(topic, msg_type, self._on_msg, queue_size=100)
+
+    def _on_msg(self, msg):
+        with self.lock:
+            self.msg = msg
+            if self.log is not None:
+                self.log.append(msg)
+
+    def record(self):
+        with self.lock:
+            self.log = []
+
+    def stop_recording(self):
+        with self.lock:
+            log, self.log = self.log, None
+        return log
+
+
+def wait_for(test, timeout_s, what):
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline and not rospy.is_shutdown():
+        if test():
+            return
+        time.sleep(0.02)
+    raise AssertionError('timed out after %.1f s waiting for %s' % (timeout_s, what))
+
+
+def publisher(topic, msg_type):
+    pub = rospy.Publisher(topic, msg_type, queue_size=10)
+    wait_for(lambda: pub.get_num_connections() > 0, 10.0, 'a subscriber on ' + topic)
+    return pub
+
+
+class BaxterSimTest(unittest.TestCase):
+
+    @classmethod
+    def setUpClass(cls):
+        cls.state = Latest('/robot/state', AssemblyState)
+        cls.joints = Latest('/robot/joint_states', JointState)
+        cls.endpoint = {s: Latest('/robot/limb/%s/endpoint_state' % s, EndpointState)
+                        for s in bd.SIDES}
+        cls.gripper = Latest('/robot/end_effector/left_gripper/state', EndEffectorState)
+        cls.props = Latest('/robot/end_effector/left_gripper/properties', EndEffectorProperties)
+        cls.enable_pub = publisher('/robot/set_super_enable', Bool)
+        cls.stop_pub = publisher('/robot/set_super_stop', Empty)
+        cls.reset_pub = publisher('/robot/set_super_reset', Empty)
+        cls.cmd_pub = {s: publisher('/robot/limb/%s/joint_command' % s, JointCommand)
+                       for s in bd.SIDES}
+        cls.gripper_pub = publisher('/robot/end_effector/left_gripper/command',
+                                    EndEffectorCommand)
+        cls.tf_buffer = tf2_ros.Buffer()
+        cls.tf_listener = tf2_ros.TransformListener(cls.tf_buffer)
+        wait_for(lambda: cls.state.msg and cls.joints.msg and cls.gripper.msg, 20.0,
+                 'the stand-in to publish')
+
+    def set_enabled(self, enable):
+        self.enable_pub.publish(Bool(enable))
+        wait_for(lambda: self.state.msg.enabled == enable, 5.0, 'enabled == %s' % enable)
+
+    def positions(self):
+        msg = self.joints.msg
+        return dict(zip(msg.name, msg.position))
+
+    def command_for(self, side, mode, targets, duration_s, rate_hz=50.0):
+        """Send one JointCommand repeatedly, as a controller does."""
+        names = list(targets)
+        msg = JointCommand(mode=mode, names=names, command=[targets[n] for n in names])
+        end = time.monotonic() + duration_s
+        while time.monotonic() < end:
+            self.cmd_pub[side].publish(msg)
+            time.sleep(1.0 / rate_hz)
+
+    def test_software_version_and_urdf(self):
+        self.assertEqual(rospy.get_param('/rethink/software_version'), '1.2.0')
+        result = subprocess.run(['check_urdf', URDF], stdout=subprocess.PIPE,
+                                stderr=subprocess.STDOUT, universal_newlines=True)
+        self.assertEqual(result.returncode, 0, result.stdout)
+        self.assertIn('Successfully Parsed XML', result.stdout)
+
+    def test_joint_states_layout(self):
+        msg = self.joints.msg
+        movable = {n for n, j in DESC.joints.items() if j.type != 'fixed'}
+        self.assertEqual(set(msg.name), movable | {'torso_t0'})
+        self.assertEqual(len(msg.name), len(msg.position))
+        self.assertEqual(len(msg.name), len(msg.velocity))
+        self.assertEqual(len(msg.name), len(msg.effort))
+
+    def test_commands_ignored_while_disabled(self):
+        self.set_enabled(False)
+        before = self.positions()
+        self.command_for('right', JointCommand.RAW_POSITION_MODE, {'right_s0': 1.0}, 0.6)
+        self.assertEqual(self.positions()['right_s0'], before['right_s0'])
+
+    def test_stop_latches_until_reset(self):
+        self.set_enabled(True)
+        self.stop_pub.publish(Empty())
+        wait_for(lambda: self.state.msg.stopped and not self.state.msg.enabled, 5.0, 'stopped')
+        self.enable_pub.publish(Bool(True))
+        time.sleep(0.5)
+        self.assertFalse(self.state.msg.enabled)
+        self.reset_pub.publish(Empty())
+        wait_for(lambda: not self.state.msg.stopped, 5.0, 'reset')
+        self.set_enabled(True)
+
+    def test_joint_commands_followed_within_limits(self):
+        self.set_enabled(True)
+        limits = {lim.name: lim for lim in bd.arm_limits('left', DESC)}
+        beyond = {name: lim.upper + 1.0 for name, lim in limits.items()}
+        start = self.positions()
+        travel_s = max((lim.upper - start[n]) / lim.velocity for n, lim in limits.items())
+        self.joints.record()
+        self.command_for('left', JointCommand.RAW_POSITION_MODE, beyond, travel_s + 0.5)
+        log = self.joints.stop_recording()
+        self.assertGreater(len(log), 200)
+        for previous, msg in zip(log, log[1:]):
+            dt = (msg.header.stamp - previous.header.stamp).to_sec()
+            self.assertGreater(dt, 0.0)
+            for name, old, new in zip(msg.name, previous.position, msg.position):
+                if name in limits:
+                    lim = limits[name]
+                    self.assertTrue(lim.lower - 1e-9 <= new <= lim.upper + 1e-9, (name, new))
+                    self.assertLessEqual(abs(new - old), lim.velocity * dt + 1e-7, name)  # ns stamps
+        final = dict(zip(log[-1].name, log[-1].position))
+        for name, lim in limits.items():
+            self.assertAlmostEqual(final[name], lim.upper, places=6)
+
+    def test_arm_holds_when_commands_stop(self):
+        self.set_enabled(True)
+        start = self.positions()['right_e0']
+        self.command_for('right', JointCommand.RAW_POSITION_MODE, {'right_e0': start + 3.0}, 0.5)
+        time.sleep(0.6)
+        held = self.positions()['right_e0']
+        # 0.5 s of commands plus at most the 0.2 s timeout at 1.5 rad/s.
+        self.assertGreater(held - start, 0.5)
+        self.assertLess(held - start, 1.5 * 0.75)
+        time.sleep(0.5)
+        self.assertEqual(self.positions()['right_e0'], held)
+
+    def test_endpoint_state_equals_robot_state_publisher_tf(self):
+        self.set_enabled(True)
+        poses = [{'s0': 0.4, 's1': -0.3, 'e0': 1.1, 'e1': 1.2, 'w0': -0.7, 'w1': 0.9, 'w2': 2.0},
+                 {'s0': -0.9, 's1': 0.5, 'e0': -2.0, 'e1': 0.3, 'w0': 2.5, 'w1': -1.2, 'w2': -1.0}]
+        for pose in poses:
+            for side in bd.SIDES:
+                targets = {'%s_%s' % (side, k): v for k, v in pose.items()}
+                self.command_for(side, JointCommand.RAW_POSITION_MODE, targets, 2.5)
+                positions = self.positions()
+                for name, value in targets.items():
+                    self.assertAlmostEqual(positions[name], value, places=6)
+                time.sleep(0.3)   # robot_state_publisher's tf catches up with the held pose
+                endpoint = self.endpoint[side].msg
+                tf = self.tf_buffer.lookup_transform('base', '%s_gripper' % side,
+                                                     endpoint.header.stamp, rospy.Duration(1.0))
+                p, t = endpoint.pose.position, tf.transform.translation
+                for a, b in ((p.x, t.x), (p.y, t.y), (p.z, t.z)):
+                    self.assertLess(abs(a - b), 1e-6)
+                o, r = endpoint.pose.orientation, tf.transform.rotation
+                dot = abs(o.x * r.x + o.y * r.y + o.z * r.z + o.w * r.w)
+                self.assertLess(1.0 - dot, 1e-9)
+                self.assertEqual(endpoint.header.frame_id, 'base')
+
+    def gripper_command(self, command, sequence, args='', hardware_id=None):
+        msg = EndEffectorCommand(id=self.props.msg.id if hardware_id is None else hardware_id,
+                                 command=command, args=args, sender='itest_' + command,
+                                 sequence=sequence)
+        self.gripper_pub.publish(msg)
+
+    def acknowledged(self, command, sequence):
+        state = self.gripper.msg
+        return state.command_sender == 'itest_' + command and state.command_sequence == sequence
+
+    def test_gripper(self):
+        wait_for(lambda: self.props.msg is not None, 5.0, 'gripper properties')
+        props = self.props.msg
+        self.assertEqual(props.ui_type, EndEffectorProperties.ELECTRIC_GRIPPER)
+        self.assertEqual(props.id, self.gripper.msg.id)
+        self.assertGreater(time.strptime(props.firmware_date, '%Y/%m/%d %H:%M:%S'),
+                           time.strptime('2014/05/20 00:00:00', '%Y/%m/%d %H:%M:%S'))
+        self.set_enabled(True)
+        self.gripper_command('calibrate', 11)
+        wait_for(lambda: self.acknowledged('calibrate', 11), 3.0, 'calibrate acknowledged')
+        wait_for(lambda: self.gripper.msg.calibrated and self.gripper.msg.ready, 5.0,
+                 'calibrated')
+        self.gripper_command('go', 12, hardware_id=props.id + 1)   # not this gripper: ignored
+        time.sleep(0.3)
+        self.assertFalse(self.acknowledged('go', 12))
+        self.gripper.record()
+        self.gripper_command('go', 13, json.dumps({'position': 0.0}))
+        wait_for(lambda: self.acknowledged('go', 13), 3.0, 'go acknowledged')
+        wait_for(lambda: self.gripper.msg.position == 0.0 and not self.gripper.msg.moving,
+                 5.0, 'the gripper to close')
+        log = self.gripper.stop_recording()
+        during = [m.position for m in log if m.command_sequence == 13]
+        self.assertTrue(any(0.0 < p < 100.0 for p in during), 'fingers jumped, not moved')
+        wait_for(lambda: self.positions()['l_gripper_l_finger_joint'] == 0.0, 2.0,
+                 'the finger joint to close')
+        self.gripper_command('go', 14, json.dumps({'position': 100.0}))
+        wait_for(lambda: self.gripper.msg.position == 100.0, 5.0, 'the gripper to open')
+        wait_for(lambda: math.isclose(self.positions()['l_gripper_l_finger_joint'], 0.020833,
+                                      rel_tol=1e-6), 2.0, 'the finger joint to open')
+
+
+if __name__ == '__main__':
+    rospy.init_node('test_baxter_sim')
+    rostest.rosrun('robopuppet', 'baxter_sim_api', BaxterSimTest)
