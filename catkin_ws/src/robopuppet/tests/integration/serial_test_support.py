@@ -1,0 +1,82 @@
+"""Shared helpers of the serial integration tests (serial_sim_test.py, serial_recovery_test.py)."""
+import threading
+import time
+
+import rospy
+from diagnostic_msgs.msg import DiagnosticArray
+from rosgraph_msgs.msg import Log
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Float32MultiArray, String
+
+from robopuppet import config_store, settings
+
+SIM = '/puppet_sim/arm_L'
+NS = '/puppet/arm_L'
+
+
+def seed_values(path):
+    """Return the 84 settings of an ini file, joint-major in settings.NAMES order."""
+    with open(path) as ini:
+        config, problems = config_store.parse(ini.read())
+    assert not problems, problems
+    return [config[j][n] for j in settings.JOINTS for n in settings.NAMES]
+
+
+def wait_for(predicate, timeout_s, step_s=0.02):
+    """Poll predicate until it is true; return the seconds it took, or None on timeout."""
+    start = time.monotonic()
+    while time.monotonic() - start < timeout_s and not rospy.is_shutdown():
+        if predicate():
+            return time.monotonic() - start
+        time.sleep(step_s)
+    return None
+
+
+class Watcher:
+    """Keep the latest device config, opmode, joint states, diagnostics and serial_L warnings."""
+
+    def __init__(self):
+        self.lock = threading.Lock()
+        self.device_config = None
+        self.device_opmode = None
+        self.joint_states = []
+        self.diagnostics = {}
+        self.warnings = []
+        self._subs = [
+            rospy.Subscriber(SIM + '/device_config', Float32MultiArray, self._on_config),
+            rospy.Subscriber(SIM + '/device_opmode', String, self._on_opmode),
+            rospy.Subscriber(NS + '/joint_states', JointState, self._on_states, queue_size=1000),
+            rospy.Subscriber('/diagnostics', DiagnosticArray, self._on_diagnostics),
+            rospy.Subscriber('/rosout', Log, self._on_log, queue_size=100)]
+
+    def _on_config(self, msg):
+        with self.lock:
+            self.device_config = list(msg.data)
+
+    def _on_opmode(self, msg):
+        with self.lock:
+            self.device_opmode = msg.data
+
+    def _on_states(self, msg):
+        with self.lock:
+            self.joint_states.append((time.monotonic(), msg))
+
+    def _on_diagnostics(self, msg):
+        for status in msg.status:
+            if status.name.startswith('/serial_L'):
+                with self.lock:
+                    self.diagnostics = {kv.key: kv.value for kv in status.values}
+                    self.diagnostics['level'] = status.level
+
+    def _on_log(self, msg):
+        if msg.name == '/serial_L' and msg.level >= Log.WARN:
+            with self.lock:
+                self.warnings.append(msg.msg)
+
+    def states_since(self, start_s):
+        with self.lock:
+            return [m for t, m in self.joint_states if t >= start_s]
+
+    def latest_state(self):
+        with self.lock:
+            return self.joint_states[-1][1] if self.joint_states else None
