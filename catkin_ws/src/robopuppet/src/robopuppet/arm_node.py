@@ -57,7 +57,8 @@ class ArmNode:
             side, limits,
             state_timeout_s=float(rospy.get_param('~state_timeout', 0.3)),
             heartbeat_timeout_s=float(rospy.get_param('~heartbeat_timeout', 2.5)),
-            approach_speed_rad_s=float(rospy.get_param('~approach_speed', 0.5)))
+            approach_speed_rad_s=float(rospy.get_param('~approach_speed', 0.5)),
+            command_period_s=self._period_s)
         self._lock = threading.Lock()
         self._statuses = ['Disconnected'] * settings.NUM_JOINTS
         self._robot_enabled = False

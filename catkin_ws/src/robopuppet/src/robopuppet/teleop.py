@@ -78,10 +78,13 @@ class Teleop:
         heartbeat_timeout_s: ... or no heartbeat for this long (the firmware beats at 1 Hz).
         approach_speed_rad_s: joint speed while a following arm closes in on the puppet's pose.
         track_tolerance_rad: the approach ends when every joint is this close to the target.
+        command_period_s: the nominal time between commands. A command may move a joint by
+            speed x max(time since the last command, command_period_s): fresh puppet data that
+            arrives just after a steady-stream command is still carried whole, not in slices.
     """
 
     def __init__(self, puppet_side, limits, state_timeout_s=0.3, heartbeat_timeout_s=2.5,
-                 approach_speed_rad_s=0.5, track_tolerance_rad=0.02):
+                 approach_speed_rad_s=0.5, track_tolerance_rad=0.02, command_period_s=0.01):
         if puppet_side not in ('L', 'R'):
             raise ValueError("puppet side must be 'L' or 'R', got %r" % (puppet_side,))
         self.own_side = 'left' if puppet_side == 'L' else 'right'
@@ -90,6 +93,7 @@ class Teleop:
         self.heartbeat_timeout_s = heartbeat_timeout_s
         self.approach_speed_rad_s = approach_speed_rad_s
         self.track_tolerance_rad = track_tolerance_rad
+        self.command_period_s = command_period_s
         self.state = NO_ROBOT
         self.detail = 'waiting for Baxter'
         self.opmode = LIMP
@@ -268,7 +272,8 @@ class Teleop:
 
     def step(self, t):
         """Advance to time t (s) and return the Step to carry out now."""
-        dt = 0.0 if self._last_step_t is None else min(max(t - self._last_step_t, 0.0), 0.1)
+        dt = 0.0 if self._last_step_t is None else min(max(t - self._last_step_t,
+                                                            self.command_period_s), 0.1)
         self._last_step_t = t
         for event, detail in self._events(t):
             self._fire(event, detail)

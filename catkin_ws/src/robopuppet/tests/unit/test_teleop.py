@@ -286,3 +286,18 @@ def test_an_arm_driven_by_the_other_puppet_is_not_taken():
     rig.tp.on_other_puppet(rig.t, False, False)
     rig.press(3)
     assert rig.tp.following == {'left': True, 'right': True}
+
+
+def test_fresh_data_right_after_a_stream_command_is_carried_whole():
+    """A move that fits one command period is not sliced by an unlucky stream command."""
+    rig = enter(READY)
+    rig.angles = list(HAND)
+    rig.press(3)
+    run_until_tracking(rig, 'right')
+    rig.step(0.0095, feed=False)  # the steady-stream command, just before new data
+    rig.angles[6] += 0.03          # w2 may move 4 rad/s x 10 ms = 0.04 rad per command
+    command = rig.step(0.0005).commands['right']
+    assert command[6] == pytest.approx(rig.angles[6])
+    rig.angles[0] += 0.03          # s0 may move only 1.5 rad/s x 10 ms = 0.015 rad
+    command = rig.step(0.0005).commands['right']
+    assert command[0] == pytest.approx(rig.angles[0] - 0.015)
