@@ -51,15 +51,12 @@ def run_unit(work_dir):
 
 
 def rostest_counts(output):
-    """Return (passed, failed) from rostest's SUMMARY block."""
-    tests = re.search(r'\* TESTS: (\d+)', output)
-    errors = re.search(r'\* ERRORS: (\d+)', output)
-    failures = re.search(r'\* FAILURES: (\d+)', output)
+    """Return (passed, failed) from rostest's SUMMARY blocks, one per <test> of a file."""
+    tests = [int(n) for n in re.findall(r'\* TESTS: (\d+)', output)]
+    bad = sum(int(n) for n in re.findall(r'\* (?:ERRORS|FAILURES): (\d+)', output))
     if not tests:
         return 0, 1
-    total = int(tests.group(1))
-    bad = int(errors.group(1)) + int(failures.group(1))
-    return max(total - bad, 0), max(bad, 1 if 'RESULT: FAIL' in output else 0)
+    return max(sum(tests) - bad, 0), max(bad, 1 if 'RESULT: FAIL' in output else 0)
 
 
 def run_integration(names, work_dir):

@@ -9,10 +9,9 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool, Empty, Float32, String, UInt8
 
-from robopuppet import baxter_description, settings, teleop
+from robopuppet import baxter_description, codec, settings, teleop
 from robopuppet_msgs.msg import TeleopState
 
-GRIPPER_END_PIECE = 3
 ROBOT_TIMEOUT_S = 1.0        # Baxter is absent when /robot/state or joint states are older
 ENABLE_PERIOD_S = 1.0        # how often to ask an absent or disabled Baxter to enable
 STATE_PERIOD_S = 0.5         # teleop_state and /diagnostics at least this often
@@ -91,7 +90,7 @@ class ArmNode:
                          queue_size=10, tcp_nodelay=True)
         rospy.Subscriber(self._ns + '/heartbeat', Empty, self._on_heartbeat, queue_size=10)
         rospy.Subscriber(self._ns + '/user_btn', UInt8, self._on_button, queue_size=10)
-        rospy.Subscriber('%s/gripper_%d' % (self._ns, GRIPPER_END_PIECE), Float32,
+        rospy.Subscriber('%s/gripper_%d' % (self._ns, codec.END_PIECE_GRIPPER), Float32,
                          self._on_end_piece, queue_size=10)
         other = settings.namespace('L' if side == 'R' else 'R')
         rospy.Subscriber(other + '/teleop_state', TeleopState, self._on_other_puppet,

@@ -18,6 +18,7 @@ TO_HOST = 'device->host'
 TO_DEVICE = 'host->device'
 
 NUM_GRIPPERS = 4
+END_PIECE_GRIPPER = 3  # the pencil end piece's button: reads ~1 released, ~0 pressed
 NUM_BUTTONS = 4
 OPMODES = ('limp', 'hold')  # indexed by the wire code of the opmode frame
 LIMP, HOLD = range(len(OPMODES))

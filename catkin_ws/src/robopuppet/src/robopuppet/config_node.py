@@ -1,5 +1,4 @@
 """config_X: keeps one puppet arm's ini file and serves its settings."""
-import os
 import threading
 import time
 

@@ -77,12 +77,13 @@ def to_float32(value):
 
 
 def format_value(value):
-    """Return the shortest decimal text that reads back as the same float32 (e.g. '0.1')."""
+    """Return the shortest plain decimal text that reads back as the same float32 ('0.1', '10')."""
     target = struct.pack('<f', value)
     for digits in range(1, 18):
-        text = '%.*g' % (digits, value)
-        if struct.pack('<f', float(text)) == target:
-            return text
+        number = float('%.*g' % (digits, value))
+        if struct.pack('<f', number) == target:
+            text = repr(number)  # plain notation where Python uses it: 10.0, not 1e+01
+            return text[:-2] if text.endswith('.0') else text
     return repr(value)
 
 

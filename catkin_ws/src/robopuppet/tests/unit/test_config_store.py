@@ -197,3 +197,9 @@ def test_kill_during_writes_never_leaves_a_torn_file(tmp_path):
         config, problems = config_store.parse(path.read_text())
         assert problems == [], 'attempt %d left a torn file' % attempt
         assert max(values['pid_kp'] for values in config.values()) >= 14
+
+
+@pytest.mark.parametrize('value, text', [(10.0, '10'), (20.0, '20'), (0.0, '0'), (-1.0, '-1'),
+                                         (0.1, '0.1'), (-1.571, '-1.571'), (7.2, '7.2')])
+def test_format_value_is_plain_decimal(value, text):
+    assert config_store.format_value(config_store.to_float32(value)) == text

@@ -1,0 +1,200 @@
+#!/usr/bin/python3
+"""Frames drawn per second by the GUI with all seven joints fed at 100 Hz, and its CPU share.
+
+Usage (needs a display, e.g. under xvfb-run):
+    xvfb-run -a -s '-screen 0 1920x1080x24' benchmarks/bench_gui.py [--seconds 10] [--rate 100]
+        [--ros]
+
+Without --ros (no ROS master needed) a feeder thread plays the ROS callbacks: every 1/rate s it
+writes angle and voltage of all seven joints into the ArmState. With --ros (needs a roscore at
+ROS_MASTER_URI) the GUI uses the real PuppetClient, and a child process publishes the seven
+joints' angle, voltage and status topics at the rate, so rospy's message handling counts in the
+GUI's CPU share. The arm is in hold mode, so the setpoint curves are drawn too. The
+window has its default size. For each case the script prints frames per second (frame() calls,
+each draining the buffers and redrawing the visible tab), Paint events per second of that tab's
+plot or table, and the process CPU time per wall second (100 % = one core). Cases: a joint tab
+at 30 Hz (the default ~frame_rate), the same tab unthrottled (the most this machine can draw),
+the main tab at 30 Hz, and the feed alone (the part of the CPU figures that is the callbacks).
+"""
+import argparse
+import math
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import rospy
+from PyQt5 import QtCore, QtWidgets
+from std_msgs.msg import Empty, Float32, String
+
+from robopuppet import settings
+from robopuppet.gui.puppet_client import ConfigUnavailable, PuppetClient
+from robopuppet.gui.state import ArmState
+from robopuppet.gui.window import Window
+
+
+class BenchClient:
+    """Just enough of PuppetClient for drawing: state, clock, side; sends go nowhere."""
+
+    side = 'R'
+
+    def __init__(self):
+        self.state = ArmState()
+
+    @staticmethod
+    def now():
+        return time.monotonic()
+
+    def set_opmode(self, opmode):
+        pass
+
+    def get_config(self, joint):
+        raise ConfigUnavailable('benchmark: no config node')
+
+
+def feed(arm, rate_hz, stop):
+    """Write all joints at rate_hz until stop is set (the ROS callbacks' load)."""
+    period_s = 1.0 / rate_hz
+    next_s = time.monotonic()
+    while not stop.is_set():
+        now_s = time.monotonic()
+        for joint in settings.JOINTS:
+            arm.on_angle(joint, math.sin(now_s + joint), now_s)
+            arm.on_voltage(joint, 5.0 * math.sin(3.0 * now_s + joint), now_s)
+            arm.on_status(joint, 'Working')
+        arm.on_heartbeat(now_s)
+        next_s += period_s
+        stop.wait(max(0.0, next_s - time.monotonic()))
+
+
+def publish(rate_hz):
+    """Publish all joints' angle, voltage and status at rate_hz, as serial_R would, until killed."""
+    rospy.init_node('bench_gui_feed', anonymous=True)
+    ns = settings.namespace('R')
+    pubs = [[rospy.Publisher('%s/joint_%d/%s' % (ns, joint, topic), kind, queue_size=10)
+             for topic, kind in (('angle', Float32), ('voltage', Float32), ('enc_stat', String))]
+            for joint in settings.JOINTS]
+    heartbeat = rospy.Publisher(ns + '/heartbeat', Empty, queue_size=1)
+    rate = rospy.Rate(rate_hz)
+    while not rospy.is_shutdown():
+        now_s = time.monotonic()
+        for joint, (angle, voltage, status) in enumerate(pubs):
+            angle.publish(math.sin(now_s + joint))
+            voltage.publish(5.0 * math.sin(3.0 * now_s + joint))
+            status.publish('Working')
+        heartbeat.publish()
+        try:
+            rate.sleep()
+        except rospy.ROSInterruptException:
+            break
+
+
+def start_ros_feed(client, rate_hz):
+    """Start the publishing child process; return it once the GUI receives all joints."""
+    rospy.init_node('bench_gui', anonymous=True)
+    child = subprocess.Popen([sys.executable, __file__, '--publish', '--rate', str(rate_hz)])
+    end_s = time.monotonic() + 30.0
+    while any(math.isnan(j.angle_rad) for j in client.state.snapshot().joints):
+        if time.monotonic() > end_s or child.poll() is not None:
+            child.kill()
+            raise SystemExit('bench_gui: no joint data from the publishing process')
+        time.sleep(0.1)
+    return child
+
+
+class PaintCounter(QtCore.QObject):
+    """Count Paint events of one widget."""
+
+    def __init__(self):
+        super().__init__()
+        self.count = 0
+
+    def eventFilter(self, watched, event):
+        if event.type() == QtCore.QEvent.Paint:
+            self.count += 1
+        return False
+
+
+def run_for(seconds):
+    """Run a Qt event loop for `seconds` (not app.exec_: quitting the app more than once would
+    trigger pyqtgraph's exit clean-up in the middle of the benchmark)."""
+    loop = QtCore.QEventLoop()
+    QtCore.QTimer.singleShot(int(seconds * 1000), loop.quit)
+    loop.exec_()
+
+
+def run_case(window, tab, painted_widget, interval_ms, seconds):
+    """Show `tab`, run the frame timer at interval_ms (None: no frames) for `seconds`.
+
+    Returns:
+        (frames/s: frame() calls, paints/s of painted_widget, CPU % of one core).
+    """
+    window.tabs.setCurrentWidget(tab)
+    counter = PaintCounter()
+    painted_widget.installEventFilter(counter)
+    timer = QtCore.QTimer()
+    timer.timeout.connect(window.frame)
+    if interval_ms is not None:
+        timer.start(interval_ms)
+    run_for(1.0)  # warm up
+    counter.count = 0
+    frames = window.frames
+    start_wall, start_cpu = time.monotonic(), time.process_time()
+    run_for(seconds)
+    wall_s = time.monotonic() - start_wall
+    cpu_s = time.process_time() - start_cpu
+    timer.stop()
+    painted_widget.removeEventFilter(counter)
+    return (window.frames - frames) / wall_s, counter.count / wall_s, 100.0 * cpu_s / wall_s
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument('--seconds', type=float, default=10.0, help='length of each case')
+    parser.add_argument('--rate', type=float, default=100.0, help='feed rate per joint, Hz')
+    parser.add_argument('--ros', action='store_true', help='feed through real ROS topics')
+    parser.add_argument('--publish', action='store_true', help=argparse.SUPPRESS)
+    args = parser.parse_args(rospy.myargv()[1:])
+    if args.publish:
+        publish(args.rate)
+        return
+    app = QtWidgets.QApplication(['bench_gui'])
+    if args.ros:
+        client = PuppetClient('R', ArmState(), clock=time.monotonic)
+        child = start_ros_feed(client, args.rate)
+    else:
+        client = BenchClient()
+        stop = threading.Event()
+        feeder = threading.Thread(target=feed, args=(client.state, args.rate, stop), daemon=True)
+        feeder.start()
+    window = Window(client, debug_mode=True)
+    window.show()
+    client.state.on_opmode('hold', time.monotonic())
+    joint = window.joint_tabs[3]
+    size = window.size()
+    print('window %dx%d, 7 joints fed at %.0f Hz (angle + voltage) %s, %.0f s per case, '
+          'platform %s' % (size.width(), size.height(), args.rate,
+                           'over ROS topics' if args.ros else 'by a thread', args.seconds,
+                           app.platformName()))
+    cases = [('joint tab, frame_rate 30 Hz', joint, joint.angle_plot.viewport(), 33),
+             ('joint tab, unthrottled', joint, joint.angle_plot.viewport(), 0),
+             ('main tab, frame_rate 30 Hz', window.main_tab,
+              window.main_tab.joint_table.viewport(), 33),
+             ('feed alone (no frames)', joint, joint.angle_plot.viewport(), None)]
+    for name, tab, painted, interval_ms in cases:
+        fps, paints, cpu = run_case(window, tab, painted, interval_ms, args.seconds)
+        print('%-30s %6.1f frames/s (%6.1f paints/s)   CPU %5.1f %% of one core'
+              % (name, fps, paints, cpu))
+    if args.ros:
+        child.send_signal(signal.SIGINT)
+        child.wait()
+        rospy.signal_shutdown('benchmark done')
+    else:
+        stop.set()
+        feeder.join()
+    window.close()
+
+
+if __name__ == '__main__':
+    main()

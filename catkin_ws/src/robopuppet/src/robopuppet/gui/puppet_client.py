@@ -1,0 +1,169 @@
+"""The GUI's ROS side: subscribers that fill an ArmState, publishers, and the get_config proxy.
+
+No Qt here: callbacks run on rospy's threads and only touch the locked ArmState; the GUI thread
+reads it once per frame.
+"""
+import rospy
+from diagnostic_msgs.msg import DiagnosticArray
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Empty, Float32, Float32MultiArray, String, UInt8
+
+from robopuppet import codec, settings
+from robopuppet.gui import state
+from robopuppet_msgs.msg import TeleopState
+from robopuppet_msgs.srv import GetConfig
+
+SIM_NAMESPACE = '/puppet_sim/arm_%s'
+HAND_JOINTS = tuple('joint_%d' % joint for joint in settings.JOINTS)
+
+
+class ConfigUnavailable(RuntimeError):
+    """get_config did not answer (config node not running, or the call failed)."""
+
+
+class PuppetClient:
+    """Connect an ArmState to one puppet arm's topics and services.
+
+    Subscribes (under <ns> = /puppet/arm_<side>): heartbeat, opmode, teleop_state, user_btn,
+        gripper_G, joint_J/{enc_stat,angle,voltage,setpoint}; and /diagnostics, keeping the
+        statuses whose name or hardware id mentions serial_<side>.
+    Publishes: <ns>/opmode (std_msgs/String), <ns>/joint_J/setpoint and
+        <ns>/joint_J/<setting> (std_msgs/Float32).
+    Calls: <ns>/get_config (robopuppet_msgs/GetConfig).
+    """
+
+    def __init__(self, side, arm_state, clock=rospy.get_time):
+        self.side = side
+        self.ns = settings.namespace(side)
+        self.state = arm_state
+        self._clock = clock
+        self._link_key = 'serial_%s' % side
+        ns = self.ns
+        sub = rospy.Subscriber
+        self._subscribers = [
+            sub(ns + '/heartbeat', Empty, lambda _: arm_state.on_heartbeat(clock())),
+            sub(ns + '/opmode', String, self._on_opmode),
+            sub(ns + '/teleop_state', TeleopState, self._on_teleop),
+            sub(ns + '/user_btn', UInt8, lambda msg: arm_state.on_button(msg.data)),
+            sub('/diagnostics', DiagnosticArray, self._on_diagnostics),
+        ]
+        for gripper in range(codec.NUM_GRIPPERS):
+            self._subscribers.append(sub('%s/gripper_%d' % (ns, gripper), Float32,
+                                         self._on_gripper, callback_args=gripper))
+        for joint in settings.JOINTS:
+            topic = '%s/joint_%d/' % (ns, joint)
+            self._subscribers += [
+                sub(topic + 'enc_stat', String, self._on_status, callback_args=joint),
+                sub(topic + 'angle', Float32, self._on_angle, callback_args=joint),
+                sub(topic + 'voltage', Float32, self._on_voltage, callback_args=joint),
+                sub(topic + 'setpoint', Float32, self._on_setpoint, callback_args=joint),
+            ]
+        self._opmode_pub = rospy.Publisher(ns + '/opmode', String, queue_size=1)
+        self._setpoint_pubs = [rospy.Publisher('%s/joint_%d/setpoint' % (ns, joint), Float32,
+                                               queue_size=1) for joint in settings.JOINTS]
+        self._setting_pubs = {
+            (joint, name): rospy.Publisher('%s/joint_%d/%s' % (ns, joint, name), Float32,
+                                           queue_size=len(settings.NAMES))
+            for joint in settings.JOINTS for name in settings.NAMES}
+        self._get_config = rospy.ServiceProxy(ns + '/get_config', GetConfig)
+
+    def now(self):
+        """Return the current ROS time in s (the time base of the ArmState)."""
+        return self._clock()
+
+    def set_opmode(self, opmode):
+        """Publish the opmode, 'limp' or 'hold'."""
+        if opmode not in codec.OPMODES:
+            raise ValueError('opmode must be one of %s, got %r' % (codec.OPMODES, opmode))
+        self._opmode_pub.publish(String(opmode))
+
+    def set_setpoint(self, joint, angle_rad):
+        """Publish a joint's setpoint (rad; used by the puppet in hold mode)."""
+        self._setpoint_pubs[joint].publish(Float32(angle_rad))
+
+    def set_setting(self, joint, name, value):
+        """Publish one setting; the config node stores it and the serial node forwards it."""
+        self._setting_pubs[joint, name].publish(Float32(value))
+
+    def get_config(self, joint, timeout_s=1.0):
+        """Return the stored {name: value} of a joint.
+
+        Raises:
+            ConfigUnavailable: the service is not there within timeout_s or the call failed.
+        """
+        try:
+            self._get_config.wait_for_service(timeout_s)
+            response = self._get_config(joint)
+        except (rospy.ROSException, rospy.ServiceException) as error:
+            raise ConfigUnavailable('%s/get_config: %s' % (self.ns, error)) from None
+        return {name: getattr(response, name) for name in settings.NAMES}
+
+    def _on_opmode(self, msg):
+        try:
+            self.state.on_opmode(msg.data, self._clock())
+        except ValueError as error:
+            rospy.logwarn_throttle(10, '%s/opmode ignored: %s', self.ns, error)
+
+    def _on_teleop(self, msg):
+        self.state.on_teleop(state.Teleop(msg.state, msg.follow_left, msg.follow_right,
+                                          msg.opmode, msg.heartbeat_age, msg.detail,
+                                          self._clock()))
+
+    def _on_diagnostics(self, msg):
+        for status in msg.status:
+            if self._link_key in status.name or self._link_key in status.hardware_id:
+                self.state.on_link(state.Link(
+                    status.level, status.name, status.message,
+                    tuple((kv.key, kv.value) for kv in status.values), self._clock()))
+
+    def _on_gripper(self, msg, gripper):
+        self.state.on_gripper(gripper, msg.data)
+
+    def _on_status(self, msg, joint):
+        self.state.on_status(joint, msg.data)
+
+    def _on_angle(self, msg, joint):
+        self.state.on_angle(joint, msg.data, self._clock())
+
+    def _on_voltage(self, msg, joint):
+        self.state.on_voltage(joint, msg.data, self._clock())
+
+    def _on_setpoint(self, msg, joint):
+        self.state.on_setpoint(joint, msg.data, self._clock())
+
+
+class SimPuppetClient:
+    """Operate the simulated puppet: move its hand, hold its buttons.
+
+    Publishes (latched, under /puppet_sim/arm_<side>): hand (sensor_msgs/JointState, joint_0..6
+        in rad), button (std_msgs/UInt8, the button held down, 0 none), grippers
+        (std_msgs/Float32MultiArray, four readings 0-1; reading 3 is the end-piece button,
+        1 released, 0 pressed).
+    """
+
+    def __init__(self, side):
+        ns = SIM_NAMESPACE % side
+        self.ns = ns
+        self._hand_pub = rospy.Publisher(ns + '/hand', JointState, queue_size=1, latch=True)
+        self._button_pub = rospy.Publisher(ns + '/button', UInt8, queue_size=4, latch=True)
+        self._grippers_pub = rospy.Publisher(ns + '/grippers', Float32MultiArray, queue_size=4,
+                                             latch=True)
+
+    def connected(self):
+        """Return True when a simulated puppet listens to the hand, button and grippers."""
+        return all(p.get_num_connections() > 0
+                   for p in (self._hand_pub, self._button_pub, self._grippers_pub))
+
+    def set_hand(self, angles_rad):
+        """Publish the seven hand angles (rad)."""
+        msg = JointState(name=list(HAND_JOINTS), position=[float(a) for a in angles_rad])
+        msg.header.stamp = rospy.Time.now()
+        self._hand_pub.publish(msg)
+
+    def set_button(self, button):
+        """Publish the button held down (1-4, 0 none)."""
+        self._button_pub.publish(UInt8(button))
+
+    def set_grippers(self, readings):
+        """Publish the four gripper readings (0-1)."""
+        self._grippers_pub.publish(Float32MultiArray(data=[float(r) for r in readings]))

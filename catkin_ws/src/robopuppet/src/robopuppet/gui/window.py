@@ -1,0 +1,55 @@
+"""The GUI window: main tab, optional joint tabs, optional virtual puppet panel."""
+from PyQt5 import QtWidgets
+
+from robopuppet import settings
+from robopuppet.gui.joint_tab import JointTab
+from robopuppet.gui.main_tab import MainTab
+from robopuppet.gui.sim_panel import SimPanel
+
+DEFAULT_SIZE = (1280, 760)  # pixels; the benchmark measures the frame rate at this size
+PLOT_WINDOW_S = 10.0
+
+
+class Window(QtWidgets.QMainWindow):
+    """One arm's window. `frame()` drains the ArmState and redraws the visible tab only.
+
+    Args:
+        client: a PuppetClient (or a test double with .side, .state, .now() and its setters).
+        debug_mode: show the seven joint tabs.
+        sim: a SimPuppetClient to show the virtual puppet panel, or None.
+    """
+
+    def __init__(self, client, debug_mode=True, sim=None):
+        super().__init__()
+        self.client = client
+        self.setWindowTitle('RoboPuppet — arm %s' % client.side)
+        self.tabs = QtWidgets.QTabWidget()
+        self.main_tab = MainTab(client)
+        self.tabs.addTab(self.main_tab, 'Main')
+        self.joint_tabs = []
+        if debug_mode:
+            for joint in settings.JOINTS:
+                tab = JointTab(client, joint, PLOT_WINDOW_S)
+                self.tabs.addTab(tab, 'Joint %d' % joint)
+                self.joint_tabs.append(tab)
+        self.sim = sim
+        self.sim_panel = SimPanel(sim) if sim is not None else None
+        if self.sim_panel is None:
+            self.setCentralWidget(self.tabs)
+        else:
+            splitter = QtWidgets.QSplitter()
+            splitter.addWidget(self.tabs)
+            splitter.addWidget(self.sim_panel)
+            splitter.setStretchFactor(0, 1)
+            self.setCentralWidget(splitter)
+        self.frames = 0
+        self.resize(*DEFAULT_SIZE)
+
+    def frame(self):
+        """Take in what arrived since the last frame and redraw the tab on screen."""
+        now_s = self.client.now()
+        points = self.client.state.drain()
+        for tab in self.joint_tabs:
+            tab.extend(points)
+        self.tabs.currentWidget().refresh(self.client.state.snapshot(), now_s)
+        self.frames += 1
