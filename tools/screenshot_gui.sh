@@ -2,7 +2,7 @@
 # Screenshot the RoboPuppet GUI (gui_R) while the simulated system runs, on a virtual screen.
 #   tools/screenshot_gui.sh [OUT_DIR]
 # Starts its own roscore on a free port with main_sim.launch (Baxter stand-in without RViz, arm R
-# on the simulated puppet) and the arm controller, then tools/screenshot_gui.py drives the real
+# on the simulated puppet, its arm controller), then tools/screenshot_gui.py drives the real
 # GUI like an operator and saves OUT_DIR/gui_main.png and OUT_DIR/gui_joint1.png
 # (default OUT_DIR: ./screenshots). Stops everything it started.
 set -euo pipefail
@@ -14,25 +14,13 @@ mkdir -p "$OUT_DIR"
 PORT="$(/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')"
 export ROS_MASTER_URI="http://localhost:$PORT" LIBGL_ALWAYS_SOFTWARE=1 OUT_DIR PORT ROOT
 export ROS_HOME="${ROS_HOME:-$(mktemp -d)}"
-# The arm controller runs from arm.launch once the lead has wired it in; until then start it here.
-if grep -q 'type="arm"' "$ROOT/catkin_ws/src/robopuppet/launch/arm.launch"; then
-  export START_ARM=0
-else
-  export START_ARM=1
-fi
 exec xvfb-run -a -s "-screen 0 1600x900x24" bash -c '
   roslaunch -p "$PORT" robopuppet main_sim.launch rviz:=false gui:=false \
     sim_link_prefix:="$ROS_HOME/robopuppet" >"$ROS_HOME/launch.log" 2>&1 &
   launch_pid=$!
-  arm_pid=
   sleep 5
-  if [ "$START_ARM" = 1 ]; then
-    rosrun robopuppet arm __name:=arm_R _arm_side:=R >"$ROS_HOME/arm.log" 2>&1 &
-    arm_pid=$!
-  fi
   status=0
   /usr/bin/python3 "$ROOT/tools/screenshot_gui.py" "$OUT_DIR" || status=$?
-  [ -n "$arm_pid" ] && kill -INT "$arm_pid" && wait "$arm_pid" || true
   kill -INT "$launch_pid"
   wait "$launch_pid" || true
   echo "logs: $ROS_HOME"

@@ -194,10 +194,15 @@ class Teleop:
                 and self._heartbeat_t > self._fault_t:
             yield 'fresh', 'puppet data is back; press 2 or 3 to follow again'
         if self._state_t is not None and not silent:
-            waiting = ['%d %s' % (j, s) for j, s in enumerate(self._statuses) if s != 'Working']
+            waiting = {}
+            for joint, status in enumerate(self._statuses):
+                if status != 'Working':
+                    waiting.setdefault(status, []).append(str(joint))
             if waiting:
-                yield 'uncalibrated', 'waiting for joints to report Working: ' + ', '.join(
-                    waiting) + ' (turn Uncalibrated joints through their index marks)'
+                yield 'uncalibrated', '; '.join(
+                    'joint%s %s %s' % ('s' if len(joints) > 1 else '', ', '.join(joints), status)
+                    for status, joints in sorted(waiting.items())) + (
+                    ': turn each through its index mark' if 'Uncalibrated' in waiting else '')
             else:
                 yield 'calibrated', 'all joints Working; press 2 or 3 to follow'
 
@@ -234,10 +239,11 @@ class Teleop:
             self.following[side] = True
             self.tracking[side] = False
             self._commands[side] = clamp(self._robot_pose[side], self.limits[side])
-        any_following = any(self.following.values())
-        self._fire('follow_on' if any_following else 'follow_off',
-                   'following: ' + ', '.join(s for s in SIDES if self.following[s])
-                   if any_following else 'no arm follows')
+        followers = [s for s in SIDES if self.following[s]]
+        self._fire('follow_on' if followers else 'follow_off', '')
+        self.detail = ('Baxter follows with its %s arm%s' % (' and '.join(followers),
+                                                             's' if len(followers) > 1 else '')
+                       if followers else 'no Baxter arm follows; press 2 or 3 to follow')
 
     def _grip_actions(self, actions):
         reading = self._grip_reading

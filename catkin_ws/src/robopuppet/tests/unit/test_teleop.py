@@ -108,6 +108,11 @@ def test_every_state_under_every_input(state, name):
     assert bool(commands) == (rig.tp.state == FOLLOWING)
 
 
+def test_calibrating_detail_names_the_joints_to_turn():
+    rig = enter(CALIBRATING)
+    assert rig.tp.detail == 'joint 2 Uncalibrated: turn each through its index mark'
+
+
 def test_hold_only_when_calibrated_and_with_robot_pose_as_setpoints():
     rig = enter(READY)
     pose = {'left': [0.0] * 7, 'right': [0.3, -0.4, 0.5, 1.0, -0.2, 0.9, 0.1]}
@@ -147,6 +152,7 @@ def test_going_from_one_button_to_another_is_a_press():
     rig.tp.on_button(rig.t, 2)
     rig.step()
     assert rig.tp.following == {'left': True, 'right': True}
+    assert 'left and right arms' in rig.tp.detail
 
 
 def run_until_tracking(rig, side, steps=2000):
