@@ -7,7 +7,24 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 bash "$ROOT/tools/setup.sh"
 . "$ROOT/tools/env.sh"
-args=("$@")
+# Another RoboPuppet on the same ROS master would have its nodes replaced by ours (same names).
+if /usr/bin/python3 - <<'PY'
+import sys
+import rosgraph
+master = rosgraph.Master('/robopuppet_run_check')
+try:
+    nodes = {n for _, names in master.getSystemState()[0] for n in names} if master.is_online() else set()
+except OSError:
+    nodes = set()
+sys.exit(0 if '/baxter_sim' in nodes else 1)
+PY
+then
+  echo "[run] RoboPuppet already runs on the ROS master at ${ROS_MASTER_URI:-http://localhost:11311}." >&2
+  echo "[run] Stop it first, or start this one on another master: ROS_MASTER_URI=http://localhost:11312 ./run.sh" >&2
+  exit 1
+fi
+# The simulated puppets' pseudo-terminal links go where only this user writes.
+args=(sim_link_prefix:="${XDG_RUNTIME_DIR:-/tmp}/robopuppet-$(id -un)" "$@")
 if [ -z "${DISPLAY:-}" ]; then
   echo "[run] no display (\$DISPLAY is empty): running headless, without RViz and the GUI."
   echo "[run] inspect it from another shell: . tools/env.sh; rostopic list"

@@ -10,6 +10,7 @@ NAME filters the integration .test files (substring match). Prints one closing l
 import glob
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -74,9 +75,11 @@ def run_integration(names, work_dir):
         log = os.path.join(work_dir, name + '.log')
         print('[test] rostest %s' % name, flush=True)
         start = time.monotonic()
+        # Each file gets its own ROS_HOME: live ini files and logs never leak between tests.
+        env = dict(os.environ, ROS_HOME=os.path.join(work_dir, name + '.ros_home'))
         with open(log, 'w') as out:
             code = subprocess.call(['rostest', '--text', 'robopuppet', name],
-                                   stdout=out, stderr=subprocess.STDOUT, cwd=ROOT)
+                                   stdout=out, stderr=subprocess.STDOUT, cwd=ROOT, env=env)
         with open(log) as out:
             output = out.read()
         p, f = rostest_counts(output)
@@ -105,7 +108,10 @@ def main():
     if scope in ('integration', 'all'):
         p, f = run_integration(args, work_dir)
         passed, failed = passed + p, failed + f
-    print('[test] logs in %s' % work_dir)
+    if failed:
+        print('[test] logs in %s' % work_dir)
+    else:
+        shutil.rmtree(work_dir, ignore_errors=True)
     print('%d passed, %d failed' % (passed, failed))
     return 1 if failed or passed == 0 else 0
 

@@ -6,7 +6,9 @@ the simulated system). Builds the same window as gui_R (PuppetClient + virtual p
 then, like an operator: sweeps the quadrature joints through their index marks with the panel's
 sliders until all seven encoders work, makes joint 1 a P controller (pid_kp 4 V/rad, no I or
 D) with the joint tab's Set, presses button 3 (Baxter's right arm follows) and button 1 (hold),
-and waves joint 1 with its slider. Saves OUT_DIR/gui_main.png (main tab) and OUT_DIR/gui_joint1.png (joint 1 tab).
+and waves joint 1 with its slider. Saves OUT_DIR/gui_main.png (main tab) and
+OUT_DIR/gui_joint1.png (joint 1 tab). Exits with status 1, saving nothing more, when a step
+does not happen within a minute or Set is not confirmed.
 """
 import math
 import os
@@ -21,6 +23,11 @@ from robopuppet.gui.state import ArmState
 from robopuppet.gui.window import Window
 
 WAVED_JOINT = 1
+STEP_TIMEOUT_S = 60.0
+
+
+class GaveUp(Exception):
+    """The scenario cannot go on; str() says why."""
 
 
 def scenario(window, out_dir, wave):
@@ -35,10 +42,13 @@ def scenario(window, out_dir, wave):
     yield working
     tab = window.joint_tabs[WAVED_JOINT]
     tab.get()
+    yield lambda: not tab.busy()
     for name, value in (('pid_kp', '4'), ('pid_ki', '0'), ('pid_kd', '0')):  # P only
         tab.fields[name].setText(value)
     tab.set()
-    yield 1.0
+    yield lambda: not tab.busy()
+    if not tab.message.text().startswith(('saved', 'no change')):
+        raise GaveUp('Set of joint %d: %s' % (WAVED_JOINT, tab.message.text()))
     for button in (3, 1):  # right arm follows; then hold
         panel.user_buttons[button - 1].pressed.emit()
         yield 0.4
@@ -61,6 +71,7 @@ def main():
     wave = []  # when the waving of WAVED_JOINT started
     steps = scenario(window, out_dir, wave)
     wait = [0.0, time.monotonic()]  # what to wait for, since when
+    failure = []
 
     def tick():
         window.frame()
@@ -69,23 +80,26 @@ def main():
             window.sim_panel.set_angle(WAVED_JOINT, 0.5 + 0.4 * math.sin(phase))
         what, since = wait
         done = what() if callable(what) else time.monotonic() - since >= what
-        if done:
-            try:
+        try:
+            if done:
                 wait[:] = [next(steps), time.monotonic()]
-            except StopIteration:
-                app.quit()
-        elif time.monotonic() - since > 60.0:
-            print('screenshot_gui: gave up waiting (encoders: %s)' % [
-                j.status for j in window.client.state.snapshot().joints])
+            elif time.monotonic() - since > STEP_TIMEOUT_S:
+                raise GaveUp('waited %.0f s (encoders: %s)' % (STEP_TIMEOUT_S, [
+                    j.status for j in window.client.state.snapshot().joints]))
+        except StopIteration:
+            app.quit()
+        except GaveUp as reason:
+            failure.append(str(reason))
             app.quit()
 
     timer = QtCore.QTimer()
     timer.timeout.connect(tick)
     timer.start(33)
     app.exec_()
-    rospy.signal_shutdown('screenshots taken')
-    print('screenshots in %s: %s' % (out_dir, sorted(
-        f for f in os.listdir(out_dir) if f.startswith('gui_'))))
+    rospy.signal_shutdown('screenshots taken' if not failure else 'gave up')
+    if failure:
+        sys.exit('screenshot_gui: gave up: %s' % failure[0])
+    print('screenshots in %s: gui_main.png, gui_joint%d.png' % (out_dir, WAVED_JOINT))
 
 
 if __name__ == '__main__':

@@ -4,7 +4,9 @@
 # Starts its own roscore on a free port with main_sim.launch (Baxter stand-in without RViz, arm R
 # on the simulated puppet, its arm controller), then tools/screenshot_gui.py drives the real
 # GUI like an operator and saves OUT_DIR/gui_main.png and OUT_DIR/gui_joint1.png
-# (default OUT_DIR: ./screenshots). Stops everything it started.
+# (default OUT_DIR: ./screenshots). Stops everything it started. ROS_HOME is always a fresh
+# temporary directory (its live arm_R.ini and the logs stay there); the exit status is non-zero
+# when the scenario gives up.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 OUT_DIR="$(realpath -m "${1:-$ROOT/screenshots}")"
@@ -13,7 +15,10 @@ mkdir -p "$OUT_DIR"
 . "$ROOT/tools/env.sh"
 PORT="$(/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')"
 export ROS_MASTER_URI="http://localhost:$PORT" LIBGL_ALWAYS_SOFTWARE=1 OUT_DIR PORT ROOT
-export ROS_HOME="${ROS_HOME:-$(mktemp -d)}"
+# Always a fresh ROS_HOME: the scenario changes the config node's live arm_R.ini, which must never
+# be the user's real one.
+ROS_HOME="$(mktemp -d)"
+export ROS_HOME ROS_LOG_DIR="$ROS_HOME/log"
 exec xvfb-run -a -s "-screen 0 1600x900x24" bash -c '
   roslaunch -p "$PORT" robopuppet main_sim.launch rviz:=false gui:=false \
     sim_link_prefix:="$ROS_HOME/robopuppet" >"$ROS_HOME/launch.log" 2>&1 &

@@ -16,16 +16,28 @@ done
 if [ -n "$missing" ]; then
   echo "[setup] installing Debian packages:$missing"
   SUDO=""
-  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+  if [ "$(id -u)" -ne 0 ]; then
+    if ! command -v sudo >/dev/null; then
+      echo "[setup] these Debian packages are missing:$missing" >&2
+      echo "[setup] install them as root (apt-get install ...), or install sudo, then run again" >&2
+      exit 1
+    fi
+    SUDO="sudo"
+  fi
   $SUDO apt-get update -q
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q $missing
+  # sudo resets the environment, so the variable goes through env.
+  $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -q $missing
 fi
 
 echo "[setup] building catkin_ws"
 cd "$ROOT/catkin_ws"
+# One build at a time: a second run.sh or test.sh waits instead of racing in build/ and devel/.
+exec 9>"$ROOT/catkin_ws/.build.lock"
+flock 9
 if ! out=$(catkin_make -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCMAKE_BUILD_TYPE=Release 2>&1); then
   echo "$out" | tail -40
   echo "[setup] catkin_make failed" >&2
   exit 1
 fi
+flock -u 9
 echo "[setup] workspace ready: source catkin_ws/devel/setup.bash"

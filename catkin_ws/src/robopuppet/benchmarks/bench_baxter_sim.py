@@ -2,7 +2,8 @@
 """Benchmark baxter_sim: /robot/joint_states rate and jitter while both arms are commanded at 100 Hz.
 
 Usage (after `. tools/env.sh`): bench_baxter_sim.py [DURATION_S]  (default 20)
-Starts its own roscore on a free port and the baxter_sim node, enables the robot, sends mode-1
+Starts its own roscore on a free port (ROS_HOME and logs in a temporary directory, removed at
+the end) and the baxter_sim node, enables the robot, sends mode-1
 joint commands to both arms at 100 Hz, and prints the joint_states rate, the inter-message
 jitter (|interval - 10 ms|, from header stamps = the node's loop, and from arrival times = what
 a subscriber sees) and the node's CPU share (% of one core). For comparison it first measures
@@ -10,9 +11,11 @@ the jitter of a bare Python 100 Hz sleep loop: the floor that this machine's loa
 """
 import math
 import os
+import shutil
 import socket
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 
@@ -74,11 +77,13 @@ def main():
     duration_s = float(sys.argv[1]) if len(sys.argv) > 1 else 20.0
     floor = sleep_loop_intervals(5.0)
     port = free_port()
-    os.environ['ROS_MASTER_URI'] = 'http://localhost:%d' % port
-    core = subprocess.Popen(['roscore', '-p', str(port)], stdout=subprocess.DEVNULL,
-                            stderr=subprocess.DEVNULL)
-    node = None
+    ros_home = tempfile.mkdtemp(prefix='bench_baxter_sim_')
+    os.environ.update(ROS_MASTER_URI='http://localhost:%d' % port, ROS_HOME=ros_home,
+                      ROS_LOG_DIR=os.path.join(ros_home, 'log'))
+    core = node = None
     try:
+        core = subprocess.Popen(['roscore', '-p', str(port)], stdout=subprocess.DEVNULL,
+                                stderr=subprocess.DEVNULL)
         time.sleep(3.0)
         node = subprocess.Popen([NODE], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         import rospy
@@ -130,6 +135,7 @@ def main():
             if process is not None:
                 process.terminate()
                 process.wait(timeout=10)
+        shutil.rmtree(ros_home)
 
 
 if __name__ == '__main__':

@@ -6,10 +6,11 @@ Usage (needs a display, e.g. under xvfb-run):
         [--ros]
 
 Without --ros (no ROS master needed) a feeder thread plays the ROS callbacks: every 1/rate s it
-writes angle and voltage of all seven joints into the ArmState. With --ros (needs a roscore at
-ROS_MASTER_URI) the GUI uses the real PuppetClient, and a child process publishes the seven
-joints' angle, voltage and status topics at the rate, so rospy's message handling counts in the
-GUI's CPU share. The arm is in hold mode, so the setpoint curves are drawn too. The
+writes angle, voltage and encoder status of all seven joints and a heartbeat into the ArmState.
+With --ros (needs a roscore at ROS_MASTER_URI) the GUI uses the real PuppetClient, and a child
+process publishes the same at the rate on the seven joints' angle, voltage and enc_stat topics
+and the heartbeat topic (22 messages per period: 2200 messages/s at 100 Hz), so rospy's message
+handling counts in the GUI's CPU share. The arm is in hold mode, so the setpoint curves are drawn too. The
 window has its default size. For each case the script prints frames per second (frame() calls,
 each draining the buffers and redrawing the visible tab), Paint events per second of that tab's
 plot or table, and the process CPU time per wall second (100 % = one core). Cases: a joint tab
@@ -173,7 +174,8 @@ def main():
     client.state.on_opmode('hold', time.monotonic())
     joint = window.joint_tabs[3]
     size = window.size()
-    print('window %dx%d, 7 joints fed at %.0f Hz (angle + voltage) %s, %.0f s per case, '
+    print('window %dx%d, 7 joints fed at %.0f Hz (angle + voltage + enc_stat, and the '
+          'heartbeat) %s, %.0f s per case, '
           'platform %s' % (size.width(), size.height(), args.rate,
                            'over ROS topics' if args.ros else 'by a thread', args.seconds,
                            app.platformName()))

@@ -119,9 +119,7 @@ def bench_latency(seconds):
             time.sleep(0.05)
         print('serial node loaded %d settings frames + opmode into the device'
               % sum(isinstance(m, codec.JointConfig) for m in device.received))
-        process = psutil.Process(serial_node.pid)
-        while process.children():  # rosrun execs python; follow to the interpreter
-            process = process.children()[0]
+        process = psutil.Process(serial_node.pid)  # rosrun execs the node's interpreter
         seq = 1
         time.sleep(1.0)
         for rate in STATE_RATES_HZ:

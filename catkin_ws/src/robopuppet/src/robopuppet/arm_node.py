@@ -1,7 +1,10 @@
 """arm_X: drives Baxter from one puppet arm, through Baxter's own ROS API (robopuppet.teleop)."""
 import json
+import math
 import threading
+import time
 
+import rospkg
 import rospy
 from baxter_core_msgs.msg import (AssemblyState, EndEffectorCommand, EndEffectorProperties,
                                   EndEffectorState, JointCommand)
@@ -19,6 +22,22 @@ GRIPPER_CALIBRATE_RETRY_S = 3.0
 DIAG_LEVEL = {teleop.NO_ROBOT: DiagnosticStatus.WARN, teleop.CALIBRATING: DiagnosticStatus.OK,
               teleop.READY: DiagnosticStatus.OK, teleop.FOLLOWING: DiagnosticStatus.OK,
               teleop.FAULT: DiagnosticStatus.ERROR}
+
+
+def positive_param(name, default):
+    """Return a private parameter as a positive finite float.
+
+    Raises:
+        ValueError: the parameter is not a positive finite number.
+    """
+    value = rospy.get_param(name, default)
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        number = math.nan
+    if not (math.isfinite(number) and number > 0.0):
+        raise ValueError('%s must be a positive number, got %r' % (name, value))
+    return number
 
 
 class ArmNode:
@@ -49,14 +68,16 @@ class ArmNode:
         side = rospy.get_param('~arm_side')
         self._ns = settings.namespace(side)
         self._name = 'arm_' + side
-        self._period_s = 1.0 / float(rospy.get_param('~command_rate', 100.0))
-        limits = {s: baxter_description.arm_limits(s) for s in teleop.SIDES}
+        self._period_s = 1.0 / positive_param('~command_rate', 100.0)
+        description = baxter_description.load(baxter_description.urdf_path(
+            rospkg.RosPack().get_path('robopuppet')))
+        limits = {s: baxter_description.arm_limits(s, description) for s in teleop.SIDES}
         self._joint_names = {s: baxter_description.arm_joint_names(s) for s in teleop.SIDES}
         self._teleop = teleop.Teleop(
             side, limits,
-            state_timeout_s=float(rospy.get_param('~state_timeout', 0.3)),
-            heartbeat_timeout_s=float(rospy.get_param('~heartbeat_timeout', 2.5)),
-            approach_speed_rad_s=float(rospy.get_param('~approach_speed', 0.5)),
+            state_timeout_s=positive_param('~state_timeout', teleop.STATE_TIMEOUT_S),
+            heartbeat_timeout_s=positive_param('~heartbeat_timeout', teleop.HEARTBEAT_TIMEOUT_S),
+            approach_speed_rad_s=positive_param('~approach_speed', 0.5),
             command_period_s=self._period_s)
         self._lock = threading.Lock()
         self._statuses = ['Disconnected'] * settings.NUM_JOINTS
@@ -117,30 +138,30 @@ class ArmNode:
                                    self._name, len(msg.position), settings.NUM_JOINTS)
             return
         with self._lock:
-            now = rospy.get_time()
+            now = time.monotonic()
             self._teleop.on_joint_states(now, list(self._statuses), list(msg.position))
             self._run(now)  # act on fresh puppet data at once
 
     def _on_heartbeat(self, msg):
         with self._lock:
-            self._teleop.on_heartbeat(rospy.get_time())
+            self._teleop.on_heartbeat(time.monotonic())
 
     def _on_button(self, msg):
         with self._lock:
-            self._teleop.on_button(rospy.get_time(), msg.data)
+            self._teleop.on_button(time.monotonic(), msg.data)
 
     def _on_end_piece(self, msg):
         with self._lock:
-            self._teleop.on_end_piece(rospy.get_time(), msg.data)
+            self._teleop.on_end_piece(time.monotonic(), msg.data)
 
     def _on_other_puppet(self, msg):
         with self._lock:
-            self._teleop.on_other_puppet(rospy.get_time(), msg.follow_left, msg.follow_right)
+            self._teleop.on_other_puppet(time.monotonic(), msg.follow_left, msg.follow_right)
 
     def _on_robot_state(self, msg):
         with self._lock:
             self._robot_enabled = msg.enabled and not msg.stopped and not msg.error
-            self._robot_state_t = rospy.get_time()
+            self._robot_state_t = time.monotonic()
 
     def _on_robot_joints(self, msg):
         position = dict(zip(msg.name, msg.position))
@@ -148,7 +169,7 @@ class ArmNode:
             for s in teleop.SIDES:
                 if all(n in position for n in self._joint_names[s]):
                     self._robot_pose[s] = [position[n] for n in self._joint_names[s]]
-            self._robot_joints_t = rospy.get_time()
+            self._robot_joints_t = time.monotonic()
 
     def _on_gripper_properties(self, msg, side):
         with self._lock:
@@ -158,7 +179,7 @@ class ArmNode:
         with self._lock:
             # An electric gripper ignores 'go' until calibrated (as after power-up): calibrate
             # it, as the Rethink SDK does, and ask again while it has not done so.
-            now = rospy.get_time()
+            now = time.monotonic()
             if (msg.calibrated != EndEffectorState.STATE_TRUE and msg.id
                     and now - self._calibrate_sent_t[side] > GRIPPER_CALIBRATE_RETRY_S):
                 self._calibrate_sent_t[side] = now
@@ -170,7 +191,7 @@ class ArmNode:
 
     def _on_timer(self, event):
         with self._lock:
-            now = rospy.get_time()
+            now = time.monotonic()
             if now - self._last_command_t >= self._period_s * 0.9:
                 self._run(now)
 
@@ -222,7 +243,7 @@ class ArmNode:
         msg = TeleopState(state=tp.state, follow_left=tp.following['left'],
                           follow_right=tp.following['right'], opmode=tp.opmode,
                           heartbeat_age=tp.heartbeat_age(now), detail=tp.detail)
-        msg.header.stamp = rospy.Time.from_sec(now)
+        msg.header.stamp = rospy.Time.now()
         self._pub_state.publish(msg)
         values = [KeyValue(k, str(v)) for k, v in (
             ('state', tp.state), ('follow_left', tp.following['left']),

@@ -12,8 +12,18 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
-URDF_PATH = os.path.abspath(os.path.join(os.path.dirname(__file__), '..', '..', 'urdf',
-                                         'baxter.urdf'))
+
+def urdf_path(package_dir):
+    """Return the path of baxter.urdf in a robopuppet package directory (source or installed).
+
+    Nodes pass rospkg.RosPack().get_path('robopuppet'), which is right in every space.
+    """
+    return os.path.join(package_dir, 'urdf', 'baxter.urdf')
+
+
+# The source tree's copy, next to this module: right for tests and tools run from the work tree
+# (and the devel space), wrong after `catkin_make install`, where nodes must use urdf_path().
+URDF_PATH = urdf_path(os.path.abspath(os.path.join(os.path.dirname(__file__), '..', '..')))
 
 SIDES = ('left', 'right')
 # Puppet joint J drives the J-th of these (DESIGN section 7).
@@ -232,15 +242,23 @@ def matrix_quaternion(rotation):
 
 @functools.lru_cache(maxsize=None)
 def load(path=URDF_PATH):
-    """Return the Description of a URDF file (the package's baxter.urdf by default), cached."""
-    with open(path) as urdf:
-        return Description(urdf.read())
+    """Return the Description of a URDF file (the source tree's baxter.urdf by default), cached.
+
+    Raises:
+        DescriptionError: the file cannot be read or is not a usable description.
+    """
+    try:
+        with open(path) as urdf:
+            text = urdf.read()
+    except OSError as error:
+        raise DescriptionError('cannot read robot description %s: %s' % (path, error)) from error
+    return Description(text)
 
 
 def arm_limits(side, description=None):
     """Return the 7 JointLimits (rad, rad/s) of a side's arm in puppet order.
 
     Args:
-        description: a Description; the package's baxter.urdf when None.
+        description: a Description; the source tree's baxter.urdf (see load) when None.
     """
     return (description or load()).arm_limits(side)

@@ -259,7 +259,11 @@ class BaxterModel:
         self.stopped = True
 
     def reset(self):
-        """Clear the stopped state and errors; the robot stays disabled."""
+        """Clear the stopped latch; the robot stays disabled.
+
+        Rethink's reset also clears the joints' hardware faults, which this model has none of.
+        Gripper errors are left alone: on Baxter the gripper's own 'reset' command clears them.
+        """
         self.set_enabled(False)
         self.stopped = False
 

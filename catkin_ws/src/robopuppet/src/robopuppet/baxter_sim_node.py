@@ -2,9 +2,12 @@
 
 The motion is robopuppet.baxter_model; this module only wires it to topics.
 """
+import math
 import sys
 import threading
+import time
 
+import rospkg
 import rospy
 from baxter_core_msgs.msg import (AssemblyState, EndEffectorCommand, EndEffectorProperties,
                                   EndEffectorState, EndpointState, JointCommand)
@@ -12,7 +15,7 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool, Empty, Float64
 
 from robopuppet import baxter_description as bd
-from robopuppet.baxter_model import BaxterModel, CommandError, NotEnabledError
+from robopuppet.baxter_model import BaxterModel, CommandError
 
 SOFTWARE_VERSION = '1.2.0'
 # The electric gripper's hardware id; the SDK copies it from the state into every command.
@@ -20,6 +23,38 @@ GRIPPER_ID = 65538
 GRIPPER_FIRMWARE_DATE = '2014/11/05 14:43:21'   # the SDK 1.2 warns for dates before 2014/05/20
 STATE_EVERY_N_CYCLES = 5                        # /robot/state at rate_hz / 5
 SWITCH_INTERVAL_S = 0.0005
+WARN_INTERVAL_S = 2.0       # a refused command is logged at most this often per command kind
+
+
+def positive_param(name, value):
+    """Return a parameter's value as a finite float > 0.
+
+    Raises:
+        ValueError: naming the parameter, when the value is anything else.
+    """
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        number = math.nan
+    if not (math.isfinite(number) and number > 0.0) or isinstance(value, bool):
+        raise ValueError('parameter %s must be a number > 0, got %r' % (name, value))
+    return number
+
+
+class WarnThrottle:
+    """Decide whether to log a warning: at most once per interval for each key."""
+
+    def __init__(self, interval_s):
+        self.interval_s = interval_s
+        self._last_s = {}
+
+    def due(self, key, now_s):
+        """Return True (and restart the key's interval) when key was not logged recently."""
+        last_s = self._last_s.get(key)
+        if last_s is not None and 0.0 <= now_s - last_s < self.interval_s:
+            return False
+        self._last_s[key] = now_s
+        return True
 
 
 def gripper_properties(side):
@@ -31,6 +66,10 @@ def gripper_properties(side):
         firmware_date=GRIPPER_FIRMWARE_DATE, has_calibration=True, controls_grip=True,
         senses_grip=True, reverses_grip=False, controls_force=True, senses_force=True,
         controls_position=True, senses_position=True, properties='')
+
+
+def _positive_param(name, default):
+    return positive_param(rospy.resolve_name(name), rospy.get_param(name, default))
 
 
 class BaxterSimNode:
@@ -54,14 +93,29 @@ class BaxterSimNode:
     """
 
     def __init__(self):
+        """Read and check the parameters, then advertise and subscribe.
+
+        Raises:
+            ValueError: a parameter is unusable (the message names it).
+        """
         text = rospy.get_param('/robot_description', None)
-        description = bd.Description(text) if text else bd.load()
-        self._rate_hz = float(rospy.get_param('~rate_hz', 100.0))
-        self._lock = threading.Lock()
-        self._model = BaxterModel(description, rospy.get_time(),
-                                  gripper_calibrated=rospy.get_param('~gripper_calibrated', False))
+        try:
+            description = bd.Description(text) if text else bd.load(
+                bd.urdf_path(rospkg.RosPack().get_path('robopuppet')))
+        except bd.DescriptionError as error:
+            raise ValueError('parameter /robot_description: %s' % error) from error
+        self._rate_hz = _positive_param('~rate_hz', 100.0)
+        timeout_s = _positive_param('~joint_command_timeout', 0.2)
+        calibrated = rospy.get_param('~gripper_calibrated', False)
+        if not isinstance(calibrated, bool):
+            raise ValueError('parameter %s must be true or false, got %r'
+                             % (rospy.resolve_name('~gripper_calibrated'), calibrated))
+        self._lock = threading.Lock()         # the model, between the loop and the callbacks
+        self._state_lock = threading.Lock()   # orders /robot/state messages like the changes
+        self._warn_throttle = WarnThrottle(WARN_INTERVAL_S)
+        self._model = BaxterModel(description, rospy.get_time(), gripper_calibrated=calibrated)
         for side in bd.SIDES:
-            self._model.set_command_timeout(side, rospy.get_param('~joint_command_timeout', 0.2))
+            self._model.set_command_timeout(side, timeout_s)
         rospy.set_param('/rethink/software_version', SOFTWARE_VERSION)
         self._state_pub = rospy.Publisher('/robot/state', AssemblyState, queue_size=1, latch=True)
         self._joint_pub = rospy.Publisher('/robot/joint_states', JointState, queue_size=10)
@@ -90,16 +144,23 @@ class BaxterSimNode:
                          self._model.stop, queue_size=10)
         self._publish_state()
 
+    def _warn(self, key, text):
+        """Log a refused command, at most every WARN_INTERVAL_S for each key.
+
+        A script that repeats a bad command at 100 Hz gets one line every 2 s, not a flood;
+        different kinds of refusal (key) are still each reported.
+        """
+        if self._warn_throttle.due(key, time.monotonic()):
+            rospy.logwarn('%s (repeats of this kind are logged every %g s)', text,
+                          WARN_INTERVAL_S)
+
     def _apply(self, action, *args):
         """Run a model call under the lock; log (never raise) a refused command."""
         with self._lock:
             try:
                 action(*args)
-            except NotEnabledError as error:
-                rospy.logwarn_throttle(2.0, str(error))
-                return False
             except CommandError as error:
-                rospy.logwarn(str(error))
+                self._warn((action.__name__, type(error)), str(error))
                 return False
         return True
 
@@ -113,8 +174,9 @@ class BaxterSimNode:
 
     def _on_gripper_command(self, msg, side):
         if msg.id != GRIPPER_ID:
-            rospy.logwarn('%s gripper command %r ignored: id %d is not this gripper\'s %d',
-                          side, msg.command, msg.id, GRIPPER_ID)
+            with self._lock:
+                self._warn(('gripper id', side), '%s gripper command %r ignored: id %d is not '
+                           'this gripper\'s %d' % (side, msg.command, msg.id, GRIPPER_ID))
             return
         self._apply(self._model.gripper_command, side, msg.command, msg.args, msg.sender,
                     msg.sequence)
@@ -130,13 +192,16 @@ class BaxterSimNode:
         self._publish_state()
 
     def _publish_state(self):
-        with self._lock:
-            enabled, stopped = self._model.enabled, self._model.stopped
-        self._state_pub.publish(AssemblyState(
-            ready=enabled and not stopped, enabled=enabled, stopped=stopped, error=False,
-            estop_button=AssemblyState.ESTOP_BUTTON_UNPRESSED,
-            estop_source=(AssemblyState.ESTOP_SOURCE_USER if stopped
-                          else AssemblyState.ESTOP_SOURCE_NONE)))
+        # Read and publish under one lock: the loop and the enable callbacks both publish, and
+        # the latched message must be the newest state, never an older one published late.
+        with self._state_lock:
+            with self._lock:
+                enabled, stopped = self._model.enabled, self._model.stopped
+            self._state_pub.publish(AssemblyState(
+                ready=enabled and not stopped, enabled=enabled, stopped=stopped, error=False,
+                estop_button=AssemblyState.ESTOP_BUTTON_UNPRESSED,
+                estop_source=(AssemblyState.ESTOP_SOURCE_USER if stopped
+                              else AssemblyState.ESTOP_SOURCE_NONE)))
 
     def _publish_cycle(self, stamp):
         with self._lock:
@@ -189,4 +254,9 @@ def main():
     # 0.5 ms instead of Python's default 5 ms.
     sys.setswitchinterval(SWITCH_INTERVAL_S)
     rospy.init_node('baxter_sim')
-    BaxterSimNode().spin()
+    try:
+        node = BaxterSimNode()
+    except (ValueError, rospkg.ResourceNotFound) as error:
+        rospy.logfatal('baxter_sim cannot start: %s', error)
+        raise SystemExit(1)
+    node.spin()

@@ -3,6 +3,7 @@
 A write goes to a temporary file in the same directory, is flushed to disk and then renamed over
 the old file, so a kill at any moment leaves either the old or the new file, never a torn one.
 """
+import glob
 import os
 import shutil
 import tempfile
@@ -23,6 +24,19 @@ def resolve_path(file_name, ros_home):
     return path
 
 
+def _tmp_prefix(path):
+    return '.%s.' % os.path.basename(path)
+
+
+def remove_stale_temporaries(path):
+    """Delete temporary files that a writer killed mid-write left beside path; return them."""
+    pattern = os.path.join(os.path.dirname(path) or '.', glob.escape(_tmp_prefix(path)) + '*.tmp')
+    stale = glob.glob(pattern)
+    for tmp_path in stale:
+        os.unlink(tmp_path)
+    return stale
+
+
 def write_atomic(path, text):
     """Replace the file at path with text, atomically and durably.
 
@@ -31,8 +45,7 @@ def write_atomic(path, text):
     """
     directory = os.path.dirname(path) or '.'
     os.makedirs(directory, exist_ok=True)
-    fd, tmp_path = tempfile.mkstemp(prefix='.%s.' % os.path.basename(path), suffix='.tmp',
-                                    dir=directory)
+    fd, tmp_path = tempfile.mkstemp(prefix=_tmp_prefix(path), suffix='.tmp', dir=directory)
     try:
         with os.fdopen(fd, 'w') as tmp:
             tmp.write(text)
@@ -77,7 +90,8 @@ def load_or_create(path, seed_file, stamp):
     Raises:
         OSError: the file cannot be read or written.
     """
-    notes = []
+    notes = ['removed %s, left by an interrupted write' % tmp
+             for tmp in remove_stale_temporaries(path)]
     if os.path.exists(path):
         source = path
         with open(path, errors='replace') as live:

@@ -100,37 +100,72 @@ def _lines(text):
             yield index, 'junk', None
 
 
+def _entries(text):
+    """Yield (index, kind, match, joint, problem) for each line of an ini text.
+
+    joint is the joint whose value a section or option line holds, or None when the line is
+    ignored: an unknown section, a repeated [joint_N] section and everything in it, a repeated or
+    unknown option. The first occurrence always wins, for reading and for writing alike. problem
+    says why a line is ignored, or is None.
+    """
+    known_sections = {settings.section(j): j for j in settings.JOINTS}
+    seen_sections, seen_options = set(), set()
+    joint, section = None, None
+    for index, kind, match in _lines(text):
+        problem = None
+        if kind == 'section':
+            section = match.group(1)
+            joint = known_sections.get(section)
+            if joint is None:
+                problem = 'line %d: unknown section [%s] ignored' % (index + 1, section)
+            elif joint in seen_sections:
+                problem = 'line %d: repeated section [%s] ignored' % (index + 1, section)
+                joint = None
+            else:
+                seen_sections.add(joint)
+            yield index, kind, match, joint, problem
+            continue
+        if kind == 'option':
+            name = match.group(2)
+            if section is None:
+                problem = 'line %d: option outside any section ignored' % (index + 1)
+            elif joint is None:
+                pass  # inside an ignored section, which is reported already
+            elif name not in settings.CONFIG_ID:
+                problem = '[%s] %s: unknown option ignored' % (section, name)
+            elif (joint, name) in seen_options:
+                problem = 'line %d: repeated option %s in [%s] ignored' % (index + 1, name,
+                                                                          section)
+            else:
+                seen_options.add((joint, name))
+                yield index, kind, match, joint, None
+                continue
+            yield index, kind, match, None, problem
+            continue
+        if kind == 'junk':
+            problem = 'line %d: not an ini line, ignored' % (index + 1)
+        yield index, kind, match, None, problem
+
+
 def parse(text):
     """Read an arm's ini text, repairing what is missing or broken with defaults.
 
     Returns:
         (config, problems): config is {joint: {name: float}} for all joints and settings;
-        problems is a list of human-readable strings, one per entry that was repaired
-        (empty when the text was complete and valid).
+        problems is a list of human-readable strings, one per entry that was repaired or
+        ignored (empty when the text was complete and valid).
     """
     config = defaults()
     problems = []
     raw = {}  # (joint, name) -> text
-    known_sections = {settings.section(j): j for j in settings.JOINTS}
     seen_sections = set()
-    section = None
-    for index, kind, match in _lines(text):
-        if kind == 'section':
-            section = match.group(1)
-            seen_sections.add(section)
-            if section not in known_sections:
-                problems.append('line %d: unknown section [%s] ignored' % (index + 1, section))
-        elif kind == 'option':
-            if section is None:
-                problems.append('line %d: option outside any section ignored' % (index + 1))
-            elif section in known_sections:
-                name = match.group(2)
-                if name in settings.CONFIG_ID:
-                    raw[(known_sections[section], name)] = match.group(4)
-                else:
-                    problems.append('[%s] %s: unknown option ignored' % (section, name))
-        elif kind == 'junk':
-            problems.append('line %d: not an ini line, ignored' % (index + 1))
+    for index, kind, match, joint, problem in _entries(text):
+        if problem:
+            problems.append(problem)
+        if kind == 'section' and joint is not None:
+            seen_sections.add(settings.section(joint))
+        elif kind == 'option' and joint is not None:
+            raw[(joint, match.group(2))] = match.group(4)
     if not seen_sections:
         return config, ['not an ini file: no [joint_N] sections; using defaults']
     for joint in settings.JOINTS:
@@ -180,24 +215,19 @@ def render(text, config, only=None):
     if 'section' not in kinds and kinds - {'comment'}:
         text = ''  # not an ini: start afresh (the caller keeps a backup of the original)
     lines = text.splitlines()
-    known_sections = {settings.section(j): j for j in settings.JOINTS}
     written = set()
-    section_end = {}  # joint -> index after the section's last non-blank line
-    joint = None
-    for index, kind, match in _lines(text):
-        if kind == 'section':
-            joint = known_sections.get(match.group(1))
-            if joint is not None:
-                section_end[joint] = index + 1
-        elif kind == 'option' and joint is not None:
+    section_end = {}  # joint -> index after the section's last option line
+    for index, kind, match, joint, _ in _entries(text):
+        if joint is None:
+            continue
+        section_end[joint] = index + 1
+        if kind == 'option':
             name = match.group(2)
-            section_end[joint] = index + 1
-            if name in settings.CONFIG_ID and (joint, name) not in written:
-                written.add((joint, name))
-                if only is None or (joint, name) in only:
-                    lead, sep, comment = match.group(1), match.group(3), match.group(5) or ''
-                    lines[index] = '%s%s%s%s%s' % (lead, name, sep,
-                                                   format_value(config[joint][name]), comment)
+            written.add((joint, name))
+            if only is None or (joint, name) in only:
+                lead, sep, comment = match.group(1), match.group(3), match.group(5) or ''
+                lines[index] = '%s%s%s%s%s' % (lead, name, sep,
+                                               format_value(config[joint][name]), comment)
     # Insert missing options at the end of their section, last sections first so that the
     # indices of earlier sections stay valid.
     for joint in sorted(section_end, reverse=True):

@@ -1,6 +1,5 @@
 """puppet_sim_X: the simulated puppet controller on a pseudo-terminal, played by ROS topics."""
 import contextlib
-import errno
 import os
 import select
 import threading
@@ -14,7 +13,11 @@ from std_msgs.msg import Float32MultiArray, MultiArrayDimension, String, UInt8, 
 from robopuppet import codec, settings
 from robopuppet.puppet_model import PuppetFirmware
 
-JOINT_INDEX = {'joint_%d' % j: j for j in settings.JOINTS}
+JOINT_INDEX = {name: j for j, name in enumerate(settings.JOINT_NAMES)}
+# Bytes that the pty did not take yet (a partial write) are kept up to this much, about eight
+# state sets; beyond it, like the real device, the simulator drops what nobody reads rather than
+# deliver old states late.
+PENDING_LIMIT_BYTES = 1024
 
 
 class PuppetSimNode:
@@ -51,6 +54,8 @@ class PuppetSimNode:
         self._decoder = codec.Decoder(codec.types_sent_by(codec.TO_DEVICE))
         self._lock = threading.Lock()
         self._master = self._slave = None
+        self._pending = b''  # written to the line as the pty takes it
+        self._dropped_bytes = 0
         self._dropping = False
         self._noise = b''
         self._pub_config = rospy.Publisher(self._sim_ns + '/device_config', Float32MultiArray,
@@ -115,16 +120,27 @@ class PuppetSimNode:
         os.close(self._slave)
 
     def _write(self, data):
-        """Write to the line; like the real device, drop what nobody reads (logged once)."""
-        try:
-            os.write(self._master, data)
-        except BlockingIOError:
+        """Put data on the line after what is pending; write as much as the pty takes.
+
+        Like the real device, drop what nobody reads: when more than PENDING_LIMIT_BYTES wait,
+        they are dropped, counted and logged (once until the host reads again).
+        """
+        self._pending += data
+        if len(self._pending) > PENDING_LIMIT_BYTES:
+            self._dropped_bytes += len(self._pending)
+            self._pending = b''
             if not self._dropping:
                 rospy.loginfo('%s: the host is not reading; dropping frames', self._link)
                 self._dropping = True
             return
-        if self._dropping:
-            rospy.loginfo('%s: the host reads again', self._link)
+        try:
+            written = os.write(self._master, self._pending) if self._pending else 0
+        except BlockingIOError:
+            written = 0
+        self._pending = self._pending[written:]
+        if written and self._dropping:
+            rospy.loginfo('%s: the host reads again (%d bytes dropped so far)', self._link,
+                          self._dropped_bytes)
             self._dropping = False
 
     def run(self):
@@ -142,20 +158,15 @@ class PuppetSimNode:
             with self._lock:
                 due = self._firmware.next_due_s()
             wait = 0.0 if due is None else min(0.1, max(0.0, due - time.monotonic()))
-            ready, _, _ = select.select([self._master], [], [], wait)
+            # The simulator keeps its own slave fd open, so reading the master never gives EIO.
+            writable = [self._master] if self._pending else []
+            ready, _, _ = select.select([self._master], writable, [], wait)
+            messages = []
             if ready:
                 try:
-                    data = os.read(self._master, 4096)
+                    messages = self._decoder.feed(os.read(self._master, 4096))
                 except (BlockingIOError, InterruptedError):
-                    data = b''
-                except OSError as error:
-                    if error.errno != errno.EIO:
-                        raise
-                    data = b''  # EIO: no host has the port open; nothing to read
-                    time.sleep(wait)
-                messages = self._decoder.feed(data)
-            else:
-                messages = []
+                    pass
             with self._lock:
                 for message in messages:
                     self._firmware.handle(message)
@@ -168,7 +179,7 @@ class PuppetSimNode:
                     first = next(i for i, m in enumerate(out) if isinstance(m, codec.JointState))
                     frames.insert(first, self._noise)
                     self._noise = b''
-            if frames:
+            if frames or self._pending:
                 self._write(b''.join(frames))
             now = time.monotonic()
             if config != published_config and now >= next_publish_s:

@@ -3,6 +3,9 @@
 The transport only; it knows nothing of frames or ROS. It reports through callbacks, which it
 calls from its reader thread, and through two logging callables so that a node can route the
 messages to its log. Each problem (port missing, port lost) is logged once until it is solved.
+Any exception from opening, reading or closing the port (pyserial lets termios.error and others
+through, not only SerialException and OSError) counts as a missing or lost port: the reader
+thread never dies of it.
 """
 import threading
 
@@ -43,6 +46,7 @@ class SerialLink:
         self.connects = 0
         self.write_errors = 0
         self.callback_errors = 0
+        self.close_errors = 0
 
     @property
     def connected(self):
@@ -90,18 +94,15 @@ class SerialLink:
         problem = None
         reopening = False  # a re-open asked for by reopen() is not news: no log line
         while not self._stop.is_set():
-            try:
-                port = self._factory(self.port, self._baud_rate, timeout=READ_TIMEOUT_S,
-                                     write_timeout=WRITE_TIMEOUT_S)
-            except (serial.SerialException, OSError, ValueError) as error:
+            port, error = self._open()
+            if port is None:
                 kind = (type(error).__name__, getattr(error, 'errno', None))
                 if problem not in ('lost', kind):
-                    self._log_warn('cannot open serial port %s: %s; retrying every %.0f s'
-                                   % (self.port, error, self._retry_s))
+                    self._log_warn('cannot open serial port %s: %s; retrying every %.1f s'
+                                   % (self.port, _describe(error), self._retry_s))
                     problem = kind
                 self._stop.wait(self._retry_s)
                 continue
-            port.reset_input_buffer()
             self._reopen.clear()
             with self._write_lock:
                 self._serial = port
@@ -113,13 +114,28 @@ class SerialLink:
             lost = self._read_until_lost(port)
             with self._write_lock:
                 self._serial = None
-                port.close()
+                self._close(port)
             reopening = not lost
             if lost:
-                self._log_warn('serial port %s lost: %s; retrying every %.0f s'
+                self._log_warn('serial port %s lost: %s; retrying every %.1f s'
                                % (self.port, lost, self._retry_s))
                 problem = 'lost'
                 self._stop.wait(self._retry_s)
+
+    def _open(self):
+        """Return (open port with an empty input buffer, None) or (None, the error)."""
+        port = None
+        try:
+            port = self._factory(self.port, self._baud_rate, timeout=READ_TIMEOUT_S,
+                                 write_timeout=WRITE_TIMEOUT_S)
+            port.reset_input_buffer()
+            return port, None
+        # pyserial lets termios.error (not an OSError) and others through from open(): whatever
+        # it is, the reader thread must live on and retry.
+        except Exception as error:  # pylint: disable=broad-except
+            if port is not None:
+                self._close(port)
+            return None, error
 
     def _read_until_lost(self, port):
         """Deliver data until stop or reopen (return None) or an error (return its text)."""
@@ -128,11 +144,21 @@ class SerialLink:
                 return None
             try:
                 data = port.read(max(1, port.in_waiting))
-            except (serial.SerialException, OSError) as error:
-                return str(error)
+            except Exception as error:  # pylint: disable=broad-except
+                return _describe(error)
             if data:
                 self._call(self._on_data, data)
         return None
+
+    def _close(self, port):
+        """Close a port that failed, was lost or is re-opened; a failure is logged once."""
+        try:
+            port.close()
+        except Exception as error:  # pylint: disable=broad-except
+            self.close_errors += 1
+            if self.close_errors == 1:
+                self._log_warn('closing serial port %s failed: %s; port dropped'
+                               % (self.port, _describe(error)))
 
     def _call(self, callback, *args):
         # A faulty handler must not stop the link: log it and keep reading.
@@ -142,3 +168,10 @@ class SerialLink:
             self.callback_errors += 1
             self._log_warn('serial handler %s failed: %r' % (callback.__name__, error))
 
+
+
+def _describe(error):
+    """Return an exception as text that names its type when that is not obvious."""
+    if isinstance(error, (serial.SerialException, OSError)):
+        return str(error)
+    return '%s: %s' % (type(error).__name__, error)

@@ -9,32 +9,45 @@ from std_msgs.msg import Empty, Float32, String, UInt8
 
 from robopuppet import codec, config_store, settings
 from robopuppet.serial_link import SerialLink
+from robopuppet.teleop import HEARTBEAT_TIMEOUT_S
 from robopuppet_msgs.srv import GetConfig
 
-JOINT_NAMES = tuple('joint_%d' % j for j in settings.JOINTS)
-RETRY_S = 1.0  # pause between attempts to open, load or wake the device
+OPEN_RETRY_S = 0.5  # pause between attempts to open a missing or lost port
+RETRY_S = 1.0  # pause between attempts to load the settings or to wake a silent device
+# A joint_J/<setting> message makes the node re-read that joint from get_config this long after
+# the joint's last such message (a burst gives one read), and again later in case the config
+# node had not stored the value yet.
+RESYNC_AFTER_S = (0.2, 2.0)
+LOOP_S = 0.05
 
 
 class SerialNode:
     """Publish every frame from the puppet as it arrives; send settings, setpoints and opmode.
 
     At start and after every (re)connect it loads all 84 settings from get_config into the
-    device, then sends opmode limp. A missing, vanished or silent port is logged once and
-    retried about once a second; no byte sequence stops the node.
+    device, then sends opmode limp. Until then (e.g. while the config node is down) the device
+    runs on firmware defaults, so no joint_states and no joint_J/angle, voltage or enc_stat are
+    published. The device mirrors what the config node stored: a joint_J/<setting> message only
+    makes the node re-read that joint from get_config and send what differs. A missing, vanished
+    or silent port is logged once and retried; no byte sequence stops the node.
 
     Publishes (in <ns> = /puppet/arm_<side>):
         heartbeat (std_msgs/Empty): one per heartbeat frame.
         joint_states (sensor_msgs/JointState): joint_0..joint_6, position = angle rad,
-            effort = motor voltage V; one per complete set of seven joint state frames.
-        joint_J/angle, joint_J/voltage (std_msgs/Float32), joint_J/enc_stat (std_msgs/String),
+            effort = motor voltage V; one per complete set of seven joint state frames, once
+            the settings are loaded after the current (re)connect.
+        joint_J/angle, joint_J/voltage (std_msgs/Float32), joint_J/enc_stat (std_msgs/String):
+            at most ~joint_topic_rate Hz each, enc_stat also at once when it changes; only once
+            the settings are loaded, like joint_states.
         gripper_G (std_msgs/Float32), user_btn (std_msgs/UInt8): at most ~joint_topic_rate Hz
-            each; enc_stat and user_btn also at once whenever they change.
+            each; user_btn also at once whenever it changes.
         /diagnostics (diagnostic_msgs/DiagnosticArray): link state at 1 Hz.
     Subscribes:
         opmode (std_msgs/String): 'limp' or 'hold'.
         joint_J/setpoint (std_msgs/Float32): rad, used by the device in hold mode.
-        joint_J/<setting> (std_msgs/Float32): the twelve settings of DESIGN section 5; a value
-            the config node would refuse is not sent either.
+        joint_J/<setting> (std_msgs/Float32): the twelve settings of DESIGN section 5. The
+            value is not used: the node re-reads joint J from get_config 0.2 s (and 2 s) after
+            the last such message and sends the device every value that differs.
     Uses: <ns>/get_config (robopuppet_msgs/GetConfig).
     Parameters:
         ~arm_side (str, required): 'L' or 'R'.
@@ -57,16 +70,20 @@ class SerialNode:
         self._topic_period_s = 1.0 / topic_rate_hz
         self._name = rospy.get_name()
         self._decoder = codec.Decoder(codec.types_sent_by(codec.TO_HOST))
-        self._lock = threading.Lock()  # device settings mirror and loading
-        self._device_config = config_store.defaults()
+        self._lock = threading.Lock()  # _resync, _loaded and _generation
+        self._device_config = config_store.defaults()  # what the device holds (main loop only)
+        self._resync = {}  # joint: times to re-read it from get_config
         self._need_load = threading.Event()
         self._last_frame_s = self._last_heartbeat_s = None
         self._silent = False
-        self._loaded = False
+        self._loaded = False  # the settings are in the device since the current (re)connect
+        self._generation = 0  # counts (re)connects and wake-ups that need a load
+        self._waiting_logged = False
+        self._next_load_s = 0.0
         self._positions = [0.0] * settings.NUM_JOINTS
         self._efforts = [0.0] * settings.NUM_JOINTS
         self._status = [None] * settings.NUM_JOINTS
-        self._seen = set()
+        self._seen = None  # joints seen of the set in progress; None: wait for the next set
         self._button = None
         self._grippers = [None] * codec.NUM_GRIPPERS
         self._next_topics_s = 0.0
@@ -76,7 +93,7 @@ class SerialNode:
         self._get_config = rospy.ServiceProxy(self._ns + '/get_config', GetConfig)
         self._link = SerialLink(self._port_name, int(rospy.get_param('~baud_rate', 115200)),
                                 self._on_connect, self._on_data, rospy.loginfo, rospy.logwarn,
-                                retry_s=RETRY_S)
+                                retry_s=OPEN_RETRY_S)
 
     def _make_publishers(self):
         ns, queue = self._ns, 50
@@ -99,33 +116,43 @@ class SerialNode:
                                                self._on_setpoint, joint, queue_size=10))
             self._subs.extend(
                 rospy.Subscriber('%s/joint_%d/%s' % (ns, joint, name), Float32,
-                                 self._on_setting, (joint, name), queue_size=100)
+                                 self._on_setting, joint, queue_size=100)
                 for name in settings.NAMES)
 
     def run(self):
-        """Run the link, then load settings, watch for silence and publish diagnostics."""
+        """Run the link; load and re-sync settings, watch for silence, publish diagnostics."""
         self._link.start()
         rospy.on_shutdown(self._link.stop)
         frames_before, next_diag_s = 0, time.monotonic()
         while not rospy.is_shutdown():
-            if self._need_load.wait(0.2):
-                if self._link.connected:
-                    self._load_settings()
-                else:
-                    time.sleep(0.2)  # the link thread is re-opening the port
+            if (self._need_load.is_set() and self._link.connected
+                    and time.monotonic() >= self._next_load_s):
+                self._load_settings()
+            elif self._loaded:
+                self._resync_due()
             self._check_silence()
             now = time.monotonic()
             if now >= next_diag_s:
                 frames = self._decoder.frames
                 self._publish_diagnostics(frames - frames_before)
                 frames_before, next_diag_s = frames, now + 1.0
+            time.sleep(LOOP_S)
 
     # Device -> ROS (reader thread) ----------------------------------------------------------
     def _on_connect(self):
         self._last_frame_s = time.monotonic()
+        self._unload()
         if not self._silent:  # a silent device gets its settings when it talks again
-            self._loaded = False
             self._need_load.set()
+
+    def _unload(self):
+        """Withhold the joint topics until the settings are loaded again (reader thread)."""
+        with self._lock:
+            self._generation += 1
+            self._loaded = False
+        self._waiting_logged = False
+        self._seen = None  # then start with the first whole set after loading
+        self._status = [None] * settings.NUM_JOINTS  # and publish every enc_stat at once
 
     def _on_data(self, data):
         for message in self._decoder.feed(data):
@@ -134,6 +161,7 @@ class SerialNode:
                 rospy.loginfo('%s: frames from %s again; reloading the settings in case the '
                               'device restarted', self._name, self._port_name)
                 self._silent = False
+                self._unload()
                 self._need_load.set()
             kind = type(message)
             if kind is codec.JointState:
@@ -148,6 +176,13 @@ class SerialNode:
 
     def _on_joint_state(self, message):
         joint = message.joint
+        last = joint == settings.NUM_JOINTS - 1
+        if not self._loaded:
+            return  # firmware defaults (home_angle 0, sign_angle +1): publish nothing
+        if self._seen is None:  # loaded during this set: start with the next one
+            if last:
+                self._seen = set()
+            return
         self._positions[joint] = message.angle_rad
         self._efforts[joint] = message.voltage_v
         status = settings.ENC_STATUS[message.status]
@@ -155,14 +190,14 @@ class SerialNode:
             self._status[joint] = status
             self._pub_stat[joint].publish(String(status))
         self._seen.add(joint)
-        if joint != settings.NUM_JOINTS - 1:
+        if not last:
             return
         if len(self._seen) != settings.NUM_JOINTS:
             self._incomplete_sets += 1  # a lost frame: never publish a stale joint as new
             self._seen.clear()
             return
         self._seen.clear()
-        msg = JointState(name=JOINT_NAMES, position=list(self._positions),
+        msg = JointState(name=settings.JOINT_NAMES, position=list(self._positions),
                          effort=list(self._efforts))
         msg.header.stamp = rospy.Time.now()
         self._pub_states.publish(msg)
@@ -212,51 +247,83 @@ class SerialNode:
     def _on_setpoint(self, msg, joint):
         self._send([codec.JointSetpoint(joint, msg.data)], 'joint %d setpoint' % joint)
 
-    def _on_setting(self, msg, key):
-        joint, name = key
-        with self._lock:  # after a load in progress, so the newer value wins
+    def _on_setting(self, _msg, joint):
+        # The config node decides what is stored; the device gets that, not the message.
+        now = time.monotonic()
+        with self._lock:
+            self._resync[joint] = [now + delay for delay in RESYNC_AFTER_S]
+
+    def _resync_due(self):
+        """Re-read each joint whose re-read is due and send the device what differs."""
+        now = time.monotonic()
+        with self._lock:
+            due = [j for j, times in self._resync.items() if times[0] <= now]
+        for joint in due:
             try:
-                value = config_store.validate(self._device_config[joint], joint, name, msg.data)
-            except config_store.InvalidSetting as error:
-                rospy.logwarn('%s: not sent to the puppet: %s', self._name, error)
-                return
-            if self._send([codec.JointConfig(joint, settings.CONFIG_ID[name], value)],
-                          'joint %d %s' % (joint, name)):
-                self._device_config[joint][name] = value
+                self._get_config.wait_for_service(1.0)
+                values = self._get_config(joint)
+            except (rospy.ROSException, rospy.ServiceException) as error:
+                rospy.logwarn_throttle(10.0, '%s: cannot re-read joint %d from %s/get_config '
+                                       '(%s); retrying' % (self._name, joint, self._ns, error))
+                with self._lock:
+                    self._resync[joint][0] = time.monotonic() + RETRY_S
+                continue
+            changed = {n: getattr(values, n) for n in settings.NAMES
+                       if getattr(values, n) != self._device_config[joint][n]}
+            if self._send_config(joint, changed, self._generation):
+                with self._lock:
+                    times = self._resync.get(joint)
+                    if times and times[0] <= now:
+                        times.pop(0)
+                        if not times:
+                            del self._resync[joint]
 
     def _load_settings(self):
         """Send all settings from get_config, then opmode limp; on failure retry in ~1 s."""
-        with self._lock:
-            try:
-                self._get_config.wait_for_service(1.0)
-                config = {j: self._get_config(j) for j in settings.JOINTS}
-            except (rospy.ROSException, rospy.ServiceException) as error:
-                config = None
-                rospy.logwarn_throttle(10.0, '%s: cannot load settings from %s/get_config '
-                                       '(%s); retrying' % (self._name, self._ns, error))
-            if config is not None:
-                self._send_settings(config)
-        if config is None:
-            time.sleep(RETRY_S)
+        generation = self._generation
+        try:
+            self._get_config.wait_for_service(1.0)
+            config = {j: self._get_config(j) for j in settings.JOINTS}
+        except (rospy.ROSException, rospy.ServiceException) as error:
+            if not self._waiting_logged:
+                rospy.logwarn('%s: cannot load settings from %s/get_config (%s); publishing no '
+                              'joint states until they are loaded; retrying every %.0f s',
+                              self._name, self._ns, error, RETRY_S)
+                self._waiting_logged = True
+            self._next_load_s = time.monotonic() + RETRY_S
+            return
+        sent = all([self._send_config(j, {n: getattr(config[j], n) for n in settings.NAMES},
+                                      generation) for j in settings.JOINTS])
+        if sent and self._send([codec.Opmode(codec.LIMP)], 'opmode limp'):
+            with self._lock:
+                if generation != self._generation:
+                    return  # a reconnect meanwhile: load again
+                self._loaded = True
+                self._need_load.clear()
+            rospy.loginfo('%s: loaded %d settings into the puppet on %s, opmode limp; '
+                          'publishing joint states', self._name,
+                          len(settings.NAMES) * settings.NUM_JOINTS, self._port_name)
 
-    def _send_settings(self, config):
-        """Send {joint: GetConfig response} to the device, then opmode limp."""
-        values = {j: {n: getattr(config[j], n) for n in settings.NAMES} for j in settings.JOINTS}
-        frames = []
-        for joint in settings.JOINTS:
-            for name in settings.NAMES:
-                try:
-                    frames.append(codec.encode(codec.JointConfig(
-                        joint, settings.CONFIG_ID[name], values[joint][name])))
-                except codec.CodecError as error:
-                    rospy.logerr('%s: get_config gave joint %d %s = %r (%s); not sent',
-                                 self._name, joint, name, values[joint][name], error)
-        if self._link.write(b''.join(frames) + codec.encode(codec.Opmode(codec.LIMP))):
-            self._device_config = values
-            self._loaded = True
-            self._need_load.clear()
-            rospy.loginfo('%s: loaded %d settings into the puppet on %s, opmode limp',
-                          self._name, len(frames), self._port_name)
+    def _send_config(self, joint, values, generation):
+        """Send {name: value} of a joint as one write; return False if the link failed.
+
+        A value that cannot be encoded (not finite) is logged and skipped. The mirror of the
+        device is updated only if no (re)connect happened since `generation`.
+        """
+        frames, good = [], {}
+        for name, value in values.items():
+            try:
+                frames.append(codec.encode(codec.JointConfig(joint, settings.CONFIG_ID[name],
+                                                             value)))
+                good[name] = value
+            except codec.CodecError as error:
+                rospy.logerr('%s: get_config gave joint %d %s = %r (%s); not sent',
+                             self._name, joint, name, value, error)
+        if frames and not self._link.write(b''.join(frames)):
+            return False
+        if generation == self._generation:
+            self._device_config[joint].update(good)
+        return True
 
     def _check_silence(self):
         """Re-open the port after ~silence_timeout without frames, then every second."""
@@ -281,8 +348,11 @@ class SerialNode:
             level, text = DiagnosticStatus.ERROR, 'link down: %s not open' % self._port_name
         elif self._silent:
             level, text = DiagnosticStatus.ERROR, 'device silent'
-        elif heartbeat is None or now - heartbeat > 2.5 or not self._loaded:
-            level, text = DiagnosticStatus.WARN, 'link up, no heartbeat or settings not loaded'
+        elif not self._loaded:
+            level, text = (DiagnosticStatus.WARN, 'waiting for settings from get_config; '
+                           'joint states withheld')
+        elif heartbeat is None or now - heartbeat > HEARTBEAT_TIMEOUT_S:
+            level, text = DiagnosticStatus.WARN, 'link up, no heartbeat'
         else:
             level, text = DiagnosticStatus.OK, 'link up'
         dec, link = self._decoder, self._link

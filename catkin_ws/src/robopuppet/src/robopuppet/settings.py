@@ -7,6 +7,7 @@ import collections
 
 NUM_JOINTS = 7
 JOINTS = tuple(range(NUM_JOINTS))
+JOINT_NAMES = tuple('joint_%d' % j for j in JOINTS)  # sensor_msgs/JointState names
 
 Setting = collections.namedtuple('Setting', 'name unit default meaning')
 

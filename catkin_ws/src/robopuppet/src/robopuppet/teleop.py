@@ -5,21 +5,28 @@ Baxter's state, calls step(t) at its command rate, and carries out what step ret
 positions for each following Baxter arm and actions (opmode, puppet setpoints, grippers).
 
 Safety: Baxter follows nothing until all seven puppet encoders report Working; every command is
-clamped to Baxter's joint limits and moves at most at a bounded speed (a slow approach when
-following starts far from the puppet, then at most the joint's velocity limit); non-finite angles
-are ignored; when the puppet's joint states or heartbeat stop, commands stop at once (Baxter then
-holds by its own command timeout) and following resumes only after fresh data and a new press.
+clamped to Baxter's joint limits and moves at a bounded speed (a slow approach when following
+starts far from the puppet, then at most the joint's velocity limit, see
+joint_motion.SpeedBudget); non-finite angles are ignored; when the puppet's joint states or
+heartbeat stop, commands stop at once (Baxter then holds by its own command timeout) and following
+resumes only after fresh data and a new press; a Baxter arm that the other puppet drives is not
+taken, and if both puppets claim one at once, both let it go.
 """
 import collections
 import math
+
+from robopuppet.joint_motion import SpeedBudget, all_finite, clamp, mirror
 
 NO_ROBOT, CALIBRATING, READY, FOLLOWING, FAULT = (
     'no_robot', 'calibrating', 'ready', 'following', 'fault')
 LIMP, HOLD = 'limp', 'hold'
 SIDES = ('left', 'right')
-MIRRORED_JOINTS = (0, 2, 4, 6)  # negated on the arm opposite the puppet's side
 BUTTON_HOLD, BUTTON_LEFT, BUTTON_RIGHT = 1, 2, 3
 GRIP_PRESSED_BELOW, GRIP_RELEASED_ABOVE = 0.3, 0.7  # end-piece reading, with hysteresis
+STATE_TIMEOUT_S = 0.3      # the puppet is silent after this long without joint states
+HEARTBEAT_TIMEOUT_S = 2.5  # ... or without a heartbeat (the firmware beats at 1 Hz)
+CLAIM_EXPIRY_S = 1.5       # the other puppet's claim on an arm lasts this long unless renewed
+HOLD_RESENDS, HOLD_RESEND_PERIOD_S = 4, 0.1  # entering hold sends the setpoints 4 more times
 
 # (state, event) -> next state. Events not listed for a state leave it unchanged.
 TRANSITIONS = {
@@ -52,21 +59,6 @@ Step.__doc__ = """What to do now: commands {side: 7 joint positions rad} for the
 arms (empty when nothing may move), actions a list of SetOpmode, SetSetpoints and Grip."""
 
 
-def mirror(angles):
-    """Return puppet angles as the opposite Baxter arm takes them (joints 0, 2, 4, 6 negated)."""
-    return [-a if j in MIRRORED_JOINTS else a for j, a in enumerate(angles)]
-
-
-def clamp(angles, limits):
-    """Return angles clamped to limits, a sequence of objects with lower and upper (rad)."""
-    return [min(max(a, lim.lower), lim.upper) for a, lim in zip(angles, limits)]
-
-
-def move_toward(current, target, max_steps):
-    """Return current moved toward target by at most max_steps[j] on each joint j."""
-    return [c + min(max(t - c, -m), m) for c, t, m in zip(current, target, max_steps)]
-
-
 class Teleop:
     """Decide what Baxter and the puppet do, from what the puppet and Baxter report.
 
@@ -78,13 +70,13 @@ class Teleop:
         heartbeat_timeout_s: ... or no heartbeat for this long (the firmware beats at 1 Hz).
         approach_speed_rad_s: joint speed while a following arm closes in on the puppet's pose.
         track_tolerance_rad: the approach ends when every joint is this close to the target.
-        command_period_s: the nominal time between commands. A command may move a joint by
-            speed x max(time since the last command, command_period_s): fresh puppet data that
-            arrives just after a steady-stream command is still carried whole, not in slices.
+        command_period_s: the nominal time between commands; the speed budget holds this much
+            motion, so one command may carry speed x command_period_s at once.
     """
 
-    def __init__(self, puppet_side, limits, state_timeout_s=0.3, heartbeat_timeout_s=2.5,
-                 approach_speed_rad_s=0.5, track_tolerance_rad=0.02, command_period_s=0.01):
+    def __init__(self, puppet_side, limits, state_timeout_s=STATE_TIMEOUT_S,
+                 heartbeat_timeout_s=HEARTBEAT_TIMEOUT_S, approach_speed_rad_s=0.5,
+                 track_tolerance_rad=0.02, command_period_s=0.01):
         if puppet_side not in ('L', 'R'):
             raise ValueError("puppet side must be 'L' or 'R', got %r" % (puppet_side,))
         self.own_side = 'left' if puppet_side == 'L' else 'right'
@@ -103,12 +95,14 @@ class Teleop:
         self._angles = None        # newest finite puppet angles (rad)
         self._statuses = []        # newest encoder statuses
         self._state_t = None       # time of the newest joint states
+        self._first_state_t = None
         self._heartbeat_t = None
         self._fault_t = None
         self._robot_ok = False
         self._robot_pose = {}      # side -> 7 angles (rad)
-        self._commands = {}        # side -> 7 angles last commanded (rad)
-        self._claimed = {side: False for side in SIDES}  # driven by the other puppet
+        self._motion = {}          # side -> SpeedBudget holding the last command
+        self._claim_t = {side: None for side in SIDES}  # when the other puppet last claimed
+        self._hold_resend = None   # (setpoints, next time, sends left) after entering hold
         self._button = 0
         self._pressed = []         # button presses not yet acted on
         self._grip_reading = None
@@ -128,6 +122,8 @@ class Teleop:
                 self.ignored_angles += 1
         self._statuses = list(statuses)
         self._state_t = t
+        if self._first_state_t is None:
+            self._first_state_t = t
 
     def on_heartbeat(self, t):
         """Take a puppet heartbeat."""
@@ -146,12 +142,17 @@ class Teleop:
 
     def on_other_puppet(self, t, follow_left, follow_right):
         """Take which Baxter arms the other puppet drives; this one will not take them too."""
-        self._claimed = {'left': follow_left, 'right': follow_right}
+        for side, claimed in zip(SIDES, (follow_left, follow_right)):
+            self._claim_t[side] = t if claimed else None
 
     def on_robot(self, t, enabled, pose):
-        """Take Baxter's state: enabled (bool) and {side: 7 joint angles rad} of its arms."""
+        """Take Baxter's state: enabled (bool) and {side: 7 joint angles rad} of its arms.
+
+        An arm pose with a non-finite angle is ignored (the previous pose stays).
+        """
         self._robot_ok = enabled
-        self._robot_pose.update(pose)
+        self._robot_pose.update((side, list(angles)) for side, angles in pose.items()
+                                if all_finite(angles))
 
     # ---- decisions -----------------------------------------------------------------------
 
@@ -159,14 +160,22 @@ class Teleop:
         """Return seconds since the last heartbeat, or -1.0 before the first."""
         return -1.0 if self._heartbeat_t is None else t - self._heartbeat_t
 
+    def _heartbeat_ref(self):
+        """Return the time the heartbeat timeout counts from: the last beat, else the first data."""
+        return self._first_state_t if self._heartbeat_t is None else self._heartbeat_t
+
     def _silent(self, t):
-        if self._state_t is None or self._heartbeat_t is None:
-            return None
+        if self._state_t is None:
+            return None  # never heard from: calibrating, waiting for data
         if t - self._state_t > self.state_timeout_s:
             return 'no joint states from the puppet for %.2f s' % (t - self._state_t)
-        if t - self._heartbeat_t > self.heartbeat_timeout_s:
-            return 'no heartbeat from the puppet for %.2f s' % (t - self._heartbeat_t)
+        if t - self._heartbeat_ref() > self.heartbeat_timeout_s:
+            return 'no heartbeat from the puppet for %.2f s' % (t - self._heartbeat_ref())
         return None
+
+    def _claimed(self, side, t):
+        claim_t = self._claim_t[side]
+        return claim_t is not None and t - claim_t < CLAIM_EXPIRY_S
 
     def _fire(self, event, detail):
         new = TRANSITIONS.get((self.state, event))
@@ -191,7 +200,7 @@ class Teleop:
         if silent:
             yield 'silent', silent
         elif self.state == FAULT and self._state_t > self._fault_t \
-                and self._heartbeat_t > self._fault_t:
+                and self._heartbeat_ref() > self._fault_t:
             yield 'fresh', 'puppet data is back; press 2 or 3 to follow again'
         if self._state_t is not None and not silent:
             waiting = {}
@@ -206,18 +215,19 @@ class Teleop:
             else:
                 yield 'calibrated', 'all joints Working; press 2 or 3 to follow'
 
-    def _act_on_presses(self, actions):
+    def _act_on_presses(self, t, actions):
         for button in self._pressed:
             if self.state not in (READY, FOLLOWING):
                 continue  # a press in any other state does nothing, not even later
             if button == BUTTON_HOLD:
-                self._toggle_hold(actions)
+                self._toggle_hold(t, actions)
             elif button in (BUTTON_LEFT, BUTTON_RIGHT):
                 side = 'left' if button == BUTTON_LEFT else 'right'
-                self._toggle_follow(side)
+                self._toggle_follow(side, t)
         self._pressed = []
 
-    def _toggle_hold(self, actions):
+    def _toggle_hold(self, t, actions):
+        self._hold_resend = None
         if self.opmode == LIMP:
             pose = self._robot_pose.get(self.own_side)
             if pose is None:
@@ -225,25 +235,52 @@ class Teleop:
             self.opmode = HOLD
             actions.append(SetOpmode(HOLD))
             actions.append(SetSetpoints(list(pose)))  # the puppet moves to the robot
+            # Opmode and setpoints travel on separate topics: should the setpoints reach the
+            # firmware before the opmode, entering hold latches the current angles over them.
+            # Sending them again shortly after makes the puppet go to the robot either way.
+            self._hold_resend = (list(pose), t + HOLD_RESEND_PERIOD_S, HOLD_RESENDS)
         else:
             self.opmode = LIMP
             actions.append(SetOpmode(LIMP))
 
-    def _toggle_follow(self, side):
+    def _resend_hold_setpoints(self, t, actions):
+        if self._hold_resend is None:
+            return
+        pose, next_t, left = self._hold_resend
+        if self.opmode != HOLD or left == 0:
+            self._hold_resend = None
+        elif t >= next_t:
+            actions.append(SetSetpoints(list(pose)))
+            self._hold_resend = (pose, t + HOLD_RESEND_PERIOD_S, left - 1)
+
+    def _toggle_follow(self, side, t):
         if self.following[side]:
             self.following[side] = False
-        elif self._claimed[side]:
+        elif self._claimed(side, t):
             self.detail = 'the other puppet drives Baxter\'s %s arm already' % side
             return
         elif side in self._robot_pose:
             self.following[side] = True
             self.tracking[side] = False
-            self._commands[side] = clamp(self._robot_pose[side], self.limits[side])
+            self._motion[side] = SpeedBudget(clamp(self._robot_pose[side], self.limits[side]),
+                                             self.command_period_s, t)
+        self._after_follow_change('')
+
+    def _drop_contested_arms(self, t):
+        """Let go of any arm the other puppet claims too: both stopping is safe, both is not."""
+        contested = [s for s in SIDES if self.following[s] and self._claimed(s, t)]
+        for side in contested:
+            self.following[side] = False
+        if contested:
+            self._after_follow_change('the other puppet took Baxter\'s %s arm too: both let go; '
+                                      % ' and '.join(contested))
+
+    def _after_follow_change(self, why):
         followers = [s for s in SIDES if self.following[s]]
         self._fire('follow_on' if followers else 'follow_off', '')
-        self.detail = ('Baxter follows with its %s arm%s' % (' and '.join(followers),
-                                                             's' if len(followers) > 1 else '')
-                       if followers else 'no Baxter arm follows; press 2 or 3 to follow')
+        self.detail = why + ('Baxter follows with its %s arm%s' % (
+            ' and '.join(followers), 's' if len(followers) > 1 else '')
+            if followers else 'no Baxter arm follows; press 2 or 3 to follow')
 
     def _grip_actions(self, actions):
         reading = self._grip_reading
@@ -257,29 +294,25 @@ class Teleop:
             return
         actions.extend(Grip(side, self.gripper_closed) for side in SIDES if self.following[side])
 
-    def _commands_now(self, dt):
+    def _commands_now(self, t):
         commands = {}
         for side in SIDES:
             if not self.following[side]:
                 continue
             angles = self._angles if side == self.own_side else mirror(self._angles)
             target = clamp(angles, self.limits[side])
-            current = self._commands[side]
             if self.tracking[side]:
-                max_steps = [lim.velocity * dt for lim in self.limits[side]]
+                speeds = [lim.velocity for lim in self.limits[side]]
             else:
-                max_steps = [self.approach_speed_rad_s * dt] * len(target)
-            command = clamp(move_toward(current, target, max_steps), self.limits[side])
+                speeds = [self.approach_speed_rad_s] * len(target)
+            command = self._motion[side].move(target, speeds, t)
             if max(abs(c - g) for c, g in zip(command, target)) <= self.track_tolerance_rad:
                 self.tracking[side] = True
-            self._commands[side] = command
             commands[side] = command
         return commands
 
     def step(self, t):
         """Advance to time t (s) and return the Step to carry out now."""
-        dt = 0.0 if self._last_step_t is None else min(max(t - self._last_step_t,
-                                                            self.command_period_s), 0.1)
         self._last_step_t = t
         for event, detail in self._events(t):
             self._fire(event, detail)
@@ -288,7 +321,9 @@ class Teleop:
             # A silent puppet gets no setpoints: let it go limp, as a reconnect does anyway.
             self.opmode = LIMP
             actions.append(SetOpmode(LIMP))
-        self._act_on_presses(actions)
+        self._drop_contested_arms(t)
+        self._act_on_presses(t, actions)
+        self._resend_hold_setpoints(t, actions)
         self._grip_actions(actions)
-        commands = self._commands_now(dt) if self.state == FOLLOWING else {}
+        commands = self._commands_now(t) if self.state == FOLLOWING else {}
         return Step(commands, actions)

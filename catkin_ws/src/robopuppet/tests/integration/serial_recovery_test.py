@@ -10,7 +10,7 @@ import rospy
 import rostest
 from roslaunch.core import Node
 
-from serial_test_support import Watcher, seed_values, wait_for
+from serial_test_support import TempConfig, Watcher, seed_values, wait_for
 
 RECOVERY_LIMIT_S = 2.0
 
@@ -20,12 +20,14 @@ class SerialRecoveryTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node('serial_recovery_test')
-        cls.seed = seed_values(rospy.get_param('~seed_file'))
+        seed_file = rospy.get_param('~seed_file')
+        cls.seed = seed_values(seed_file)
         cls.link = rospy.get_param('~link')
         cls.watch = Watcher()
         cls.launch = roslaunch.scriptapi.ROSLaunch()
         cls.launch.start()
         cls.sim = None
+        cls.config = TempConfig(cls.launch, seed_file)
         time.sleep(1.0)  # let the log subscription connect before serial_L's first warning
         cls.serial = cls.launch.launch(Node(
             'robopuppet', 'serial_interface', name='serial_L', namespace='/',
@@ -36,6 +38,7 @@ class SerialRecoveryTest(unittest.TestCase):
         if cls.sim is not None:
             cls.sim.stop()
         cls.serial.stop()
+        cls.config.stop()
         cls.launch.stop()
 
     def start_sim(self):

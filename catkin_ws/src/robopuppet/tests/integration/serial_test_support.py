@@ -1,9 +1,13 @@
 """Shared helpers of the serial integration tests (serial_sim_test.py, serial_recovery_test.py)."""
+import os
+import shutil
+import tempfile
 import threading
 import time
 
 import rospy
 from diagnostic_msgs.msg import DiagnosticArray
+from roslaunch.core import Node
 from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32MultiArray, String
@@ -22,6 +26,24 @@ def seed_values(path):
     return [config[j][n] for j in settings.JOINTS for n in settings.NAMES]
 
 
+class TempConfig:
+    """config_L serving a fresh ini file in a new temp dir, seeded from seed_file.
+
+    Nothing is left in ROS_HOME; stop() stops the node and removes the dir.
+    """
+
+    def __init__(self, launch, seed_file):
+        self.dir = tempfile.mkdtemp(prefix='robopuppet_serial_test_')
+        self.path = os.path.join(self.dir, 'arm_L.ini')
+        self.process = launch.launch(Node(
+            'robopuppet', 'config', name='config_L', namespace='/',
+            args='_arm_side:=L _file_name:=%s _seed_file:=%s' % (self.path, seed_file)))
+
+    def stop(self):
+        self.process.stop()
+        shutil.rmtree(self.dir, ignore_errors=True)
+
+
 def wait_for(predicate, timeout_s, step_s=0.02):
     """Poll predicate until it is true; return the seconds it took, or None on timeout."""
     start = time.monotonic()
@@ -33,14 +55,16 @@ def wait_for(predicate, timeout_s, step_s=0.02):
 
 
 class Watcher:
-    """Keep the latest device config, opmode, joint states, diagnostics and serial_L warnings."""
+    """Keep the device's configs and opmodes, joint states, diagnostics and serial_L warnings."""
 
     def __init__(self):
         self.lock = threading.Lock()
         self.device_config = None
+        self.device_configs = []  # every one seen
         self.device_opmode = None
+        self.device_opmodes = []  # every one seen
         self.joint_states = []
-        self.diagnostics = {}
+        self.diagnostics = {}  # the values, plus 'level' and 'message'
         self.warnings = []
         self._subs = [
             rospy.Subscriber(SIM + '/device_config', Float32MultiArray, self._on_config),
@@ -52,10 +76,12 @@ class Watcher:
     def _on_config(self, msg):
         with self.lock:
             self.device_config = list(msg.data)
+            self.device_configs.append(self.device_config)
 
     def _on_opmode(self, msg):
         with self.lock:
             self.device_opmode = msg.data
+            self.device_opmodes.append(msg.data)
 
     def _on_states(self, msg):
         with self.lock:
@@ -67,6 +93,7 @@ class Watcher:
                 with self.lock:
                     self.diagnostics = {kv.key: kv.value for kv in status.values}
                     self.diagnostics['level'] = status.level
+                    self.diagnostics['message'] = status.message
 
     def _on_log(self, msg):
         if msg.name == '/serial_L' and msg.level >= Log.WARN:

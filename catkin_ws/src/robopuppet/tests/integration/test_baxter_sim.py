@@ -93,14 +93,32 @@ class BaxterSimTest(unittest.TestCase):
         msg = self.joints.msg
         return dict(zip(msg.name, msg.position))
 
-    def command_for(self, side, mode, targets, duration_s, rate_hz=50.0):
-        """Send one JointCommand repeatedly, as a controller does."""
+    def command_until(self, side, mode, targets, done, timeout_s, what, rate_hz=50.0):
+        """Send one JointCommand repeatedly, as a controller does, until done() or timeout.
+
+        Returns (first, last) monotonic publish times. Raises AssertionError on timeout.
+        """
         names = list(targets)
         msg = JointCommand(mode=mode, names=names, command=[targets[n] for n in names])
-        end = time.monotonic() + duration_s
-        while time.monotonic() < end:
+        first = last = time.monotonic()
+        end = first + timeout_s
+        while not done():
+            if time.monotonic() > end or rospy.is_shutdown():
+                raise AssertionError('timed out after %.1f s waiting for %s' % (timeout_s, what))
+            last = time.monotonic()
             self.cmd_pub[side].publish(msg)
             time.sleep(1.0 / rate_hz)
+        return first, last
+
+    def command_for(self, side, mode, targets, duration_s):
+        """Send one JointCommand repeatedly for duration_s; return (first, last) publish times."""
+        end = time.monotonic() + duration_s
+        return self.command_until(side, mode, targets, lambda: time.monotonic() > end,
+                                  duration_s + 1.0, 'the command period')
+
+    def at_targets(self, targets):
+        positions = self.positions()
+        return all(abs(positions[name] - value) < 1e-7 for name, value in targets.items())
 
     def test_software_version_and_urdf(self):
         self.assertEqual(rospy.get_param('/rethink/software_version'), '1.2.0')
@@ -140,10 +158,17 @@ class BaxterSimTest(unittest.TestCase):
         beyond = {name: lim.upper + 1.0 for name, lim in limits.items()}
         start = self.positions()
         travel_s = max((lim.upper - start[n]) / lim.velocity for n, lim in limits.items())
+        upper = {name: lim.upper for name, lim in limits.items()}
         self.joints.record()
-        self.command_for('left', JointCommand.RAW_POSITION_MODE, beyond, travel_s + 0.5)
+        # Until every joint is at its upper limit (not beyond) and 200 joint states came in.
+        self.command_until('left', JointCommand.RAW_POSITION_MODE, beyond,
+                           lambda: self.at_targets(upper) and len(self.joints.log) > 200,
+                           travel_s + 20.0, 'the left arm to reach its upper limits')
         log = self.joints.stop_recording()
-        self.assertGreater(len(log), 200)
+        # The motion came in small steps: the slowest joint passed through many positions.
+        slowest = max(limits, key=lambda n: (limits[n].upper - start[n]) / limits[n].velocity)
+        passing = {dict(zip(m.name, m.position))[slowest] for m in log}
+        self.assertGreater(len(passing), 50, slowest)
         for previous, msg in zip(log, log[1:]):
             dt = (msg.header.stamp - previous.header.stamp).to_sec()
             self.assertGreater(dt, 0.0)
@@ -152,19 +177,20 @@ class BaxterSimTest(unittest.TestCase):
                     lim = limits[name]
                     self.assertTrue(lim.lower - 1e-9 <= new <= lim.upper + 1e-9, (name, new))
                     self.assertLessEqual(abs(new - old), lim.velocity * dt + 1e-7, name)  # ns stamps
-        final = dict(zip(log[-1].name, log[-1].position))
-        for name, lim in limits.items():
-            self.assertAlmostEqual(final[name], lim.upper, places=6)
 
     def test_arm_holds_when_commands_stop(self):
         self.set_enabled(True)
         start = self.positions()['right_e0']
-        self.command_for('right', JointCommand.RAW_POSITION_MODE, {'right_e0': start + 3.0}, 0.5)
-        time.sleep(0.6)
+        first, last = self.command_for('right', JointCommand.RAW_POSITION_MODE,
+                                       {'right_e0': start + 3.0}, 0.5)
+        e0 = self.joints.msg.name.index('right_e0')
+        wait_for(lambda: (self.joints.msg.position[e0] - start > 0.1
+                          and self.joints.msg.velocity[e0] == 0.0), 5.0, 'right_e0 to hold')
         held = self.positions()['right_e0']
-        # 0.5 s of commands plus at most the 0.2 s timeout at 1.5 rad/s.
+        # Commands from first to last, then at most the 0.2 s timeout (plus 0.1 s for delivery)
+        # at 1.5 rad/s; without the timeout it would go on to start + 3.0.
         self.assertGreater(held - start, 0.5)
-        self.assertLess(held - start, 1.5 * 0.75)
+        self.assertLess(held - start, 1.5 * (last - first + 0.2 + 0.1))
         time.sleep(0.5)
         self.assertEqual(self.positions()['right_e0'], held)
 
@@ -175,10 +201,8 @@ class BaxterSimTest(unittest.TestCase):
         for pose in poses:
             for side in bd.SIDES:
                 targets = {'%s_%s' % (side, k): v for k, v in pose.items()}
-                self.command_for(side, JointCommand.RAW_POSITION_MODE, targets, 2.5)
-                positions = self.positions()
-                for name, value in targets.items():
-                    self.assertAlmostEqual(positions[name], value, places=6)
+                self.command_until(side, JointCommand.RAW_POSITION_MODE, targets,
+                                   lambda: self.at_targets(targets), 20.0, 'the pose %s' % targets)
                 time.sleep(0.3)   # robot_state_publisher's tf catches up with the held pose
                 endpoint = self.endpoint[side].msg
                 tf = self.tf_buffer.lookup_transform('base', '%s_gripper' % side,

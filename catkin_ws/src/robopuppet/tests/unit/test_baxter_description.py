@@ -1,5 +1,6 @@
 """Tests of robopuppet.baxter_description: the URDF's joint table and forward kinematics."""
 import math
+import os
 
 import numpy as np
 import pytest
@@ -123,3 +124,10 @@ def test_bad_descriptions_are_refused():
         bd.Description('<robot name="x"><link name="base"/></robot>')
     with pytest.raises(KeyError):
         DESC.chain('no_such_link')
+
+
+def test_urdf_path_is_inside_the_package_dir(tmp_path):
+    assert bd.urdf_path('/pkg') == '/pkg/urdf/baxter.urdf'
+    assert bd.urdf_path(os.path.dirname(os.path.dirname(bd.URDF_PATH))) == bd.URDF_PATH
+    with pytest.raises(bd.DescriptionError, match='cannot read'):
+        bd.load(bd.urdf_path(str(tmp_path)))

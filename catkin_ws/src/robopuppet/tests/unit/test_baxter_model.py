@@ -55,6 +55,16 @@ def test_stop_latches_until_reset():
     assert model.enabled
 
 
+def test_robot_reset_leaves_gripper_errors_to_the_gripper_reset():
+    model = enabled_model()
+    gripper = model.grippers['left']
+    gripper.error = True
+    model.reset()
+    assert gripper.error
+    model.gripper_command('left', 'reset', '', 's', 1)
+    assert not gripper.error
+
+
 def test_raw_mode_moves_at_the_velocity_limit_and_clamps_to_the_joint_limit():
     model = enabled_model()
     cmd = ('left', RAW_POSITION_MODE, ['left_s0', 'left_w0'], [5.0, -5.0])

@@ -197,9 +197,41 @@ def test_kill_during_writes_never_leaves_a_torn_file(tmp_path):
         config, problems = config_store.parse(path.read_text())
         assert problems == [], 'attempt %d left a torn file' % attempt
         assert max(values['pid_kp'] for values in config.values()) >= 14
+    # The next start tidies what the kills left: the file itself stays as it is.
+    before = path.read_text()
+    _, _, notes, _ = config_file.load_or_create(str(path), '', 'x')
+    assert path.read_text() == before
+    assert sorted(os.listdir(tmp_path)) == ['arm_R.ini']
+    assert all('interrupted write' in note for note in notes)
 
 
 @pytest.mark.parametrize('value, text', [(10.0, '10'), (20.0, '20'), (0.0, '0'), (-1.0, '-1'),
                                          (0.1, '0.1'), (-1.571, '-1.571'), (7.2, '7.2')])
 def test_format_value_is_plain_decimal(value, text):
     assert config_store.format_value(config_store.to_float32(value)) == text
+
+
+def test_repeated_entries_are_reported_and_the_first_one_wins_everywhere():
+    text = config_store.default_text().replace(
+        '[joint_1]\n', '[joint_1]\npid_kp = 5\npid_kp = 9\n', 1) + '[joint_1]\npid_kd = 7\n'
+    config, problems = config_store.parse(text)
+    assert config[1]['pid_kp'] == 5.0 and config[1]['pid_kd'] == 0.0
+    assert any('repeated option pid_kp in [joint_1]' in p for p in problems)
+    assert any('repeated section [joint_1]' in p for p in problems)
+    config[1]['pid_kp'] = 6.0
+    config[1]['pid_kd'] = 3.0
+    out = config_store.render(text, config, only={(1, 'pid_kp'), (1, 'pid_kd')})
+    reread, _ = config_store.parse(out)
+    assert reread[1]['pid_kp'] == 6.0 and reread[1]['pid_kd'] == 3.0, \
+        'a saved change survives a restart'
+
+
+def test_temporaries_of_an_interrupted_write_are_removed_at_start(tmp_path):
+    path = tmp_path / 'arm_R.ini'
+    path.write_text(config_store.default_text())
+    (tmp_path / '.arm_R.ini.k3j2.tmp').write_text('[joint_0]\npid_')
+    (tmp_path / '.arm_L.ini.k3j2.tmp').write_text('not ours')
+    _, _, notes, problems = config_file.load_or_create(str(path), '', 'x')
+    assert problems == []
+    assert sorted(os.listdir(tmp_path)) == ['.arm_L.ini.k3j2.tmp', 'arm_R.ini']
+    assert notes == ['removed %s, left by an interrupted write' % (tmp_path / '.arm_R.ini.k3j2.tmp')]

@@ -102,7 +102,7 @@ def test_form_refuses_bad_entries_naming_the_setting(field, text, words):
 
 
 def apply(stored, joint, changes):
-    """Apply changes as the config node does, one at a time; return the refused ones."""
+    """Apply [(name, value)] as the config node does, one at a time; return the refused ones."""
     refused = []
     for name, value in changes:
         try:
@@ -112,24 +112,40 @@ def apply(stored, joint, changes):
     return refused
 
 
-@pytest.mark.parametrize('new_min, new_max', [(2.0, 3.0), (-3.0, -2.0), (-0.5, 0.5),
-                                              (1.571, 1.571)])
-def test_publish_order_lets_the_config_node_accept_every_step(new_min, new_max):
-    stored = {name: config_store.to_float32(v) for name, v in settings.DEFAULTS.items()}
-    wanted = settings_form.parse_form(0, form(angle_min=str(new_min), angle_max=str(new_max)))
-    changes = settings_form.publish_order(stored, wanted)
-    assert {name for name, _ in changes} <= {'angle_min', 'angle_max'}
-    assert apply(dict(stored), 0, changes) == []
-    result = dict(stored)
-    apply(result, 0, changes)
-    assert result == wanted
+def stored_defaults():
+    return {name: config_store.to_float32(v) for name, v in settings.DEFAULTS.items()}
 
 
-def test_publish_order_sends_only_changes():
-    stored = {name: config_store.to_float32(v) for name, v in settings.DEFAULTS.items()}
-    wanted = dict(stored, pid_kd=config_store.to_float32(0.25))
-    assert settings_form.publish_order(stored, wanted) == [('pid_kd', wanted['pid_kd'])]
-    assert settings_form.publish_order(stored, stored) == []
+@pytest.mark.parametrize('new_min, new_max, count', [(2.0, 3.0, 2), (-3.0, -2.0, 2),
+                                                     (-0.5, 0.5, 1), (1.571, 1.571, 1),
+                                                     (1.6, 1.6, 2)])
+def test_each_publish_phase_is_accepted_in_any_delivery_order(new_min, new_max, count):
+    stored = stored_defaults()
+    wanted = settings_form.parse_form(0, form(angle_min=str(new_min), angle_max=str(new_max),
+                                              voltage_min='-7', velocity_max='7'))
+    changes = {name: wanted[name] for name in settings.NAMES if wanted[name] != stored[name]}
+    phases = settings_form.publish_phases(0, stored, changes)
+    assert len(phases) == count
+    assert sorted(name for phase in phases for name, _ in phase) == sorted(changes)
+    for delivery in (lambda phase: phase, lambda phase: phase[::-1]):
+        result = dict(stored)
+        for phase in phases:
+            assert apply(result, 0, delivery(phase)) == []
+        assert result == wanted
+
+
+def test_publish_phases_send_only_the_changes_given():
+    stored = stored_defaults()
+    kd = config_store.to_float32(0.25)
+    assert settings_form.publish_phases(0, stored, {'pid_kd': kd}) == [[('pid_kd', kd)]]
+    assert settings_form.publish_phases(0, stored, {}) == []
+
+
+def test_publish_phases_refuse_a_change_that_clashes_with_a_stored_value():
+    stored = dict(stored_defaults(), voltage_max=1.0)  # changed elsewhere since the form was read
+    with pytest.raises(settings_form.EntryError) as error:
+        settings_form.publish_phases(4, stored, {'voltage_min': 2.0})
+    assert 'voltage_min' in str(error.value) and 'above voltage_max' in str(error.value)
 
 
 @pytest.mark.parametrize('value, text', [(10.0, '10'), (0.0, '0'), (-1.0, '-1'),

@@ -1,6 +1,7 @@
 """pytest-qt tests of the GUI widgets, fed by injected ArmState data and a fake client."""
 import math
 import os
+import threading
 
 os.environ.setdefault('QT_QPA_PLATFORM', 'offscreen')
 
@@ -15,7 +16,11 @@ from robopuppet.puppet_model import REST_POSE_RAD  # noqa: E402
 
 
 class FakeClient:
-    """Stands in for PuppetClient: records what would be published, stores like config_X."""
+    """Stands in for PuppetClient: records what would be published, stores like config_X.
+
+    Like ROS across topics it keeps no order: published settings wait until the next get_config
+    and are then applied newest first (a refused one is dropped, as config_X drops it).
+    """
 
     side = 'R'
 
@@ -24,7 +29,10 @@ class FakeClient:
         self.time_s = 100.0
         self.published = []
         self.config_up = True
+        self.answer = None  # a threading.Event that get_config waits for (at most 5 s)
         self.stored = config_store.defaults()
+        self._undelivered = []
+        self._lock = threading.Lock()
 
     def now(self):
         return self.time_s
@@ -36,16 +44,24 @@ class FakeClient:
         self.published.append(('setpoint', joint, angle_rad))
 
     def set_setting(self, joint, name, value):
-        self.published.append((name, joint, value))
-        try:
-            self.stored[joint][name] = config_store.validate(self.stored[joint], joint, name, value)
-        except config_store.InvalidSetting:
-            pass
+        with self._lock:
+            self.published.append((name, joint, value))
+            self._undelivered.append((joint, name, value))
 
     def get_config(self, joint):
+        if self.answer is not None:
+            self.answer.wait(5.0)
         if not self.config_up:
             raise ConfigUnavailable('no service')
-        return dict(self.stored[joint])
+        with self._lock:
+            for other, name, value in reversed(self._undelivered):
+                try:
+                    self.stored[other][name] = config_store.validate(self.stored[other], other,
+                                                                     name, value)
+                except config_store.InvalidSetting:
+                    pass
+            del self._undelivered[:]
+            return dict(self.stored[joint])
 
 
 @pytest.fixture
@@ -138,39 +154,91 @@ def fill(tab, **changes):
         field.setText(changes.get(name, config_store.format_value(settings.DEFAULTS[name])))
 
 
+def read_tab(qtbot, client, joint):
+    """Return a joint tab that has read the stored settings (Get)."""
+    tab = joint_tab.JointTab(client, joint)
+    qtbot.addWidget(tab)
+    tab.get()
+    qtbot.waitUntil(lambda: not tab.busy(), timeout=3000)
+    assert tab.message.text().startswith('read the stored settings')
+    return tab
+
+
+def set_and_wait(qtbot, tab):
+    qtbot.mouseClick(tab.set_button, QtCore.Qt.LeftButton)
+    qtbot.waitUntil(lambda: not tab.busy(), timeout=5000)
+
+
 @pytest.mark.parametrize('changes, words', [
     ({'pid_kp': 'fast'}, 'not a number'),
     ({'angle_min': '1', 'angle_max': '0.5'}, 'above angle_max'),
     ({'sign_angle': '2'}, 'sign'),
 ])
 def test_invalid_entry_is_refused_with_a_message(qtbot, client, changes, words):
-    tab = joint_tab.JointTab(client, 4)
-    qtbot.addWidget(tab)
+    tab = read_tab(qtbot, client, 4)
     fill(tab, **changes)
     qtbot.mouseClick(tab.set_button, QtCore.Qt.LeftButton)
-    assert client.published == []
+    assert client.published == [] and not tab.busy()
     assert words in tab.message.text() and 'refused' in tab.message.text()
     assert tab.message.styleSheet() == joint_tab.ERROR_STYLE
 
 
-def test_set_sends_changes_in_a_safe_order_and_confirms(qtbot, client):
-    tab = joint_tab.JointTab(client, 1)
+@pytest.mark.parametrize('changes, phases', [
+    ({'angle_min': '2', 'angle_max': '3', 'pid_kp': '0.5'},
+     [['angle_max', 'pid_kp'], ['angle_min']]),  # the new minimum is above the stored maximum
+    ({'angle_min': '-3', 'angle_max': '-2'}, [['angle_min'], ['angle_max']]),
+    ({'angle_min': '-1', 'angle_max': '1'}, [['angle_min', 'angle_max']]),
+])
+def test_set_publishes_in_phases_that_any_delivery_order_accepts(qtbot, client, changes,
+                                                                  phases):
+    tab = read_tab(qtbot, client, 1)
+    fill(tab, **changes)
+    set_and_wait(qtbot, tab)
+    assert tab.message.text().startswith('saved'), tab.message.text()
+    assert [p[0] for p in client.published] == [name for phase in phases for name in phase]
+    for name, text in changes.items():
+        assert client.stored[1][name] == config_store.to_float32(float(text))
+
+
+def test_set_sends_only_the_fields_edited_since_get(qtbot, client):
+    tab = read_tab(qtbot, client, 3)
+    client.stored[3]['pid_ki'] = 0.25  # someone else changes a setting meanwhile
+    tab.fields['pid_kp'].setText('0.5')
+    set_and_wait(qtbot, tab)
+    assert client.published == [('pid_kp', 3, 0.5)]
+    assert client.stored[3]['pid_ki'] == 0.25 and tab.message.text().startswith('saved')
+    set_and_wait(qtbot, tab)  # what Set sent is no longer an edit
+    assert len(client.published) == 1 and 'no change' in tab.message.text()
+
+
+def test_set_refuses_an_edit_that_clashes_with_a_setting_changed_elsewhere(qtbot, client):
+    tab = read_tab(qtbot, client, 3)
+    client.stored[3]['angle_max'] = 0.5
+    tab.fields['angle_min'].setText('1')
+    set_and_wait(qtbot, tab)
+    assert client.published == [] and 'changed since they were read' in tab.message.text()
+
+
+def test_set_needs_the_settings_read_first(qtbot, client):
+    client.config_up = False
+    tab = joint_tab.JointTab(client, 2)
     qtbot.addWidget(tab)
-    fill(tab, angle_min='2', angle_max='3', pid_kp='0.5')
+    tab.get()
+    qtbot.waitUntil(lambda: not tab.busy(), timeout=3000)
+    assert 'config node not reachable' in tab.message.text()
+    client.config_up = True
+    fill(tab, pid_kp='0.5')
     qtbot.mouseClick(tab.set_button, QtCore.Qt.LeftButton)
-    assert [p[0] for p in client.published] == ['angle_max', 'angle_min', 'pid_kp']
-    qtbot.waitUntil(lambda: tab.message.text().startswith('saved'), timeout=3000)
-    assert client.stored[1]['angle_min'] == 2.0 and client.stored[1]['pid_kp'] == 0.5
+    assert client.published == [] and 'Get' in tab.message.text()
 
 
 def test_set_reports_a_value_the_config_node_did_not_store(qtbot, client):
-    tab = joint_tab.JointTab(client, 1)
-    qtbot.addWidget(tab)
+    tab = read_tab(qtbot, client, 1)
     client.set_setting = lambda joint, name, value: client.published.append(name)  # drops all
-    fill(tab, pid_ki='0.2')
-    qtbot.mouseClick(tab.set_button, QtCore.Qt.LeftButton)
-    qtbot.waitUntil(lambda: 'not stored' in tab.message.text(), timeout=3000)
-    assert 'pid_ki is 0' in tab.message.text()
+    tab.fields['pid_ki'].setText('0.2')
+    set_and_wait(qtbot, tab)
+    assert client.published == ['pid_ki']
+    assert 'not stored' in tab.message.text() and 'pid_ki is 0' in tab.message.text()
 
 
 def test_get_fills_fields_and_reports_a_missing_config_node(qtbot, client):
@@ -178,18 +246,33 @@ def test_get_fills_fields_and_reports_a_missing_config_node(qtbot, client):
     tab = joint_tab.JointTab(client, 5)
     qtbot.addWidget(tab)
     qtbot.mouseClick(tab.get_button, QtCore.Qt.LeftButton)
+    qtbot.waitUntil(lambda: not tab.busy(), timeout=3000)
     assert tab.fields['pid_kd'].text() == '0.125'
     assert tab.fields['angle_max'].text() == '1.571'
     client.config_up = False
-    fill(tab, pid_kd='0.5')
-    qtbot.mouseClick(tab.set_button, QtCore.Qt.LeftButton)
+    tab.fields['pid_kd'].setText('0.5')
+    set_and_wait(qtbot, tab)
     assert 'config node not reachable' in tab.message.text() and client.published == []
 
 
-def test_setpoint_is_checked_against_the_stored_limits(qtbot, client):
-    tab = joint_tab.JointTab(client, 0)
+def test_a_hung_config_node_does_not_freeze_the_window(qtbot, client, monkeypatch):
+    monkeypatch.setattr(joint_tab, 'READ_TIMEOUT_S', 0.3)
+    client.answer = threading.Event()  # get_config hangs until it is set (or 5 s)
+    tab = joint_tab.JointTab(client, 6)
     qtbot.addWidget(tab)
-    tab.get()
+    qtbot.mouseClick(tab.get_button, QtCore.Qt.LeftButton)
+    # the click returned while get_config still hangs: the GUI thread was not blocked
+    assert tab.busy() and 'reading' in tab.message.text()
+    assert not tab.get_button.isEnabled() and not tab.set_button.isEnabled()
+    qtbot.waitUntil(lambda: not tab.busy(), timeout=3000)
+    assert 'no answer within 0.3 s' in tab.message.text() and tab.get_button.isEnabled()
+    client.answer.set()  # the late answer is dropped
+    qtbot.wait(200)
+    assert tab.fields['angle_max'].text() == '' and 'no answer' in tab.message.text()
+
+
+def test_setpoint_is_checked_against_the_stored_limits(qtbot, client):
+    tab = read_tab(qtbot, client, 0)
     tab.setpoint_field.setText('2.0')
     qtbot.mouseClick(tab.setpoint_button, QtCore.Qt.LeftButton)
     assert client.published == [] and 'outside the angle limits' in tab.message.text()

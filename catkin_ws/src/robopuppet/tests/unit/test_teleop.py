@@ -3,7 +3,7 @@ import math
 
 import pytest
 
-from robopuppet import baxter_description, teleop
+from robopuppet import baxter_description, joint_motion, teleop
 from robopuppet.teleop import CALIBRATING, FAULT, FOLLOWING, NO_ROBOT, READY
 
 WORKING = ['Working'] * 7
@@ -278,12 +278,13 @@ def test_end_piece_closes_and_opens_the_following_grippers_only():
 
 
 def test_mirror_negates_joints_0_2_4_6():
-    assert teleop.mirror([1, 2, 3, 4, 5, 6, 7]) == [-1, 2, -3, 4, -5, 6, -7]
+    assert joint_motion.mirror([1, 2, 3, 4, 5, 6, 7]) == [-1, 2, -3, 4, -5, 6, -7]
 
 
 def test_an_arm_driven_by_the_other_puppet_is_not_taken():
     rig = enter(READY)
     rig.tp.on_other_puppet(rig.t, False, True)
+    rig.step()
     rig.press(3)
     assert rig.tp.state == READY and not rig.tp.following['right']
     assert 'other puppet' in rig.tp.detail
@@ -307,3 +308,79 @@ def test_fresh_data_right_after_a_stream_command_is_carried_whole():
     rig.angles[0] += 0.03          # s0 may move only 1.5 rad/s x 10 ms = 0.015 rad
     command = rig.step(0.0005).commands['right']
     assert command[0] == pytest.approx(rig.angles[0] - 0.015)
+
+
+def test_both_puppets_claiming_an_arm_at_once_both_let_go():
+    rig = enter(READY)
+    rig.press(3)
+    assert rig.step().commands
+    rig.tp.on_other_puppet(rig.t, False, True)  # the other pressed 3 at about the same time
+    assert rig.step().commands == {}
+    assert rig.tp.state == READY and 'both let go' in rig.tp.detail
+
+
+def test_a_claim_that_is_not_renewed_expires():
+    rig = enter(READY)
+    rig.tp.on_other_puppet(rig.t, False, True)
+    rig.press(3)
+    assert not rig.tp.following['right']
+    for _ in range(int(teleop.CLAIM_EXPIRY_S / 0.01) + 1):  # the other arm node died
+        rig.step()
+    rig.press(3)
+    assert rig.tp.following['right']
+
+
+def test_watchdog_works_before_the_first_heartbeat():
+    tp = teleop.Teleop('R', LIMITS)  # fed joint states, never a heartbeat
+    tp.on_robot(0.0, True, NEUTRAL)
+    t = 0.0
+    while True:
+        tp.on_joint_states(t, WORKING, NEUTRAL['right'])
+        tp.step(t)
+        if tp.state == FAULT:
+            break
+        t += 0.05
+        assert t < 10, 'no fault without heartbeats'
+    assert t == pytest.approx(teleop.HEARTBEAT_TIMEOUT_S, abs=0.06)
+    assert tp.heartbeat_age(t) == -1.0
+    tp2 = teleop.Teleop('R', LIMITS)
+    tp2.on_robot(0.0, True, NEUTRAL)
+    tp2.on_joint_states(0.0, WORKING, NEUTRAL['right'])
+    tp2.step(0.0)
+    tp2.on_button(0.0, 3)
+    assert tp2.step(0.01).commands
+    assert tp2.step(0.01 + teleop.STATE_TIMEOUT_S + 0.01).commands == {}
+    assert tp2.state == FAULT
+
+
+def test_speed_stays_bounded_however_commands_are_spaced():
+    rig = enter(READY)
+    rig.press(3)
+    run_until_tracking(rig, 'right')
+    rig.angles = [lim.upper - 0.01 for lim in LIMITS['right']]  # far away on every joint
+    start_t, start = rig.t, rig.step(0.001).commands['right']
+    for k in range(200):  # stream commands and fresh data interleaved 1 ms / 9 ms apart
+        command = rig.step(0.001 if k % 2 else 0.009).commands['right']
+    elapsed = rig.t - start_t
+    for a, b, lim in zip(command, start, LIMITS['right']):
+        assert abs(a - b) <= lim.velocity * (elapsed + 0.01) + 1e-9
+
+
+def test_nan_from_baxter_is_ignored():
+    rig = enter(READY)
+    rig.robot(pose={'left': NEUTRAL['left'], 'right': [math.nan] + NEUTRAL['right'][1:]})
+    rig.press(3)
+    command = rig.step().commands['right']
+    assert all(math.isfinite(a) for a in command)
+    assert command == pytest.approx(NEUTRAL['right'], abs=0.01)
+
+
+def test_entering_hold_sends_the_setpoints_again_for_half_a_second():
+    rig = enter(READY)
+    setpoints = []
+    rig.tp.on_button(rig.t, 1)
+    for _ in range(100):
+        setpoints += [a for a in rig.step().actions if isinstance(a, teleop.SetSetpoints)]
+        rig.tp.on_button(rig.t, 0)
+    assert len(setpoints) == 1 + teleop.HOLD_RESENDS
+    assert all(a.angles == NEUTRAL['right'] for a in setpoints)

@@ -1,14 +1,17 @@
 """A joint tab: live angle and voltage plots, the twelve settings with Get/Set, a setpoint."""
+import functools
+
 from PyQt5 import QtCore, QtWidgets
 
 from robopuppet import settings
 from robopuppet.gui import settings_form
+from robopuppet.gui.config_task import ConfigTask, wait_stored
 from robopuppet.gui.live_plot import LivePlot
 from robopuppet.gui.main_tab import number
-from robopuppet.gui.puppet_client import ConfigUnavailable
 
 NOW_LABEL_WIDTH = 420  # pixels
-CHECK_DELAY_MS = 600  # after Set, read the settings back this much later to confirm them
+READ_TIMEOUT_S = 2.0  # a get_config read (1 s to find the service, then the call) is given up
+CONFIRM_WITHIN_S = 1.0  # after publishing a phase of Set, read it back for up to this long
 OK_STYLE = 'QLabel { color: #1b5e20; }'
 ERROR_STYLE = 'QLabel { color: #b71c1c; font-weight: bold; }'
 
@@ -16,8 +19,8 @@ ERROR_STYLE = 'QLabel { color: #b71c1c; font-weight: bold; }'
 class JointTab(QtWidgets.QWidget):
     """Plots and settings of one joint; talks to the arm through a PuppetClient-like `client`.
 
-    The client needs get_config(joint) (raising ConfigUnavailable), set_setting(joint, name,
-    value), set_setpoint(joint, angle_rad) and side.
+    The client needs get_config(joint) (blocking, raising ConfigUnavailable; only ever called
+    on a worker thread), set_setting(joint, name, value), set_setpoint(joint, angle_rad) and side.
     """
 
     def __init__(self, client, joint, window_s=10.0, parent=None):
@@ -25,7 +28,9 @@ class JointTab(QtWidgets.QWidget):
         self._client = client
         self.joint = joint
         self.stored = None  # the joint's settings as last read from get_config
+        self._filled = None  # {name: value} the fields were filled with; edits are against it
         self._read_once = False
+        self._task = ConfigTask(self)
         self.angle_plot = LivePlot('joint %d angle' % joint, 'rad',
                                    [('angle', '#1565c0', False), ('setpoint', '#ef6c00', True)],
                                    window_s)
@@ -43,7 +48,8 @@ class JointTab(QtWidgets.QWidget):
         self.get_button = QtWidgets.QPushButton('Get')
         self.get_button.setToolTip('read the stored settings from config_%s' % client.side)
         self.set_button = QtWidgets.QPushButton('Set')
-        self.set_button.setToolTip('send the changed settings (stored and sent to the puppet)')
+        self.set_button.setToolTip('send the settings edited since Get (stored and sent to the '
+                                   'puppet)')
         self.get_button.clicked.connect(self.get)
         self.set_button.clicked.connect(self.set)
         buttons = QtWidgets.QHBoxLayout()
@@ -100,46 +106,97 @@ class JointTab(QtWidgets.QWidget):
             self._read_once = True
             QtCore.QTimer.singleShot(0, self.get)
 
+    def busy(self):
+        """Return True while Get or Set waits for the config node."""
+        return self._task.busy()
+
     def get(self):
-        """Fill the fields with the stored settings (get_config)."""
-        if self._read_stored():
-            for name, value in self.stored.items():
-                self.fields[name].setText(settings_form.field_text(value))
-            self._say('read the stored settings of joint %d' % self.joint)
+        """Read the stored settings (get_config, off the GUI thread) into the fields."""
+        if self.busy():
+            return
+        self._say('reading the stored settings of joint %d...' % self.joint)
+        self._read(self._got)
+
+    def _got(self, stored, error):
+        if error is not None:
+            self._unreachable(error)
+            return
+        self.stored, self._filled = stored, dict(stored)
+        for name, value in stored.items():
+            self.fields[name].setText(settings_form.field_text(value))
+        self._say('read the stored settings of joint %d' % self.joint)
 
     def set(self):
-        """Check the fields and publish the settings that differ from the stored ones.
+        """Check the fields and publish the ones edited since Get, in phases, confirming each.
 
-        Nothing is published when any field is refused or the stored settings cannot be read
-        (they decide the safe order of a minimum and a maximum).
+        Nothing is published when any field is refused, the settings were never read, or the
+        stored settings cannot be read now (they decide the phases of a minimum and a maximum).
+        Fields the operator did not edit are never sent, so a change made elsewhere meanwhile
+        is not reverted.
         """
+        if self.busy():
+            return
         texts = {name: field.text() for name, field in self.fields.items()}
         try:
             wanted = settings_form.parse_form(self.joint, texts)
         except settings_form.EntryError as error:
             self._say('refused, nothing sent:\n%s' % error, error=True)
             return
-        if not self._read_stored():
+        if self._filled is None:
+            self._say('read the stored settings first (Get); nothing sent', error=True)
             return
-        changes = settings_form.publish_order(self.stored, wanted)
-        if not changes:
-            self._say('no change: the fields hold the stored settings')
+        edited = {name: value for name, value in wanted.items() if value != self._filled[name]}
+        if not edited:
+            self._say('no change: no field was edited since the settings were read')
             return
-        for name, value in changes:
-            self._client.set_setting(self.joint, name, value)
-        self._say('sent %s; checking...' % ', '.join(
-            '%s = %s' % (name, settings_form.field_text(value)) for name, value in changes))
-        QtCore.QTimer.singleShot(CHECK_DELAY_MS, lambda: self._confirm(wanted))
+        self._say('reading the stored settings of joint %d...' % self.joint)
+        self._read(lambda stored, error: self._send(edited, stored, error))
 
-    def _confirm(self, wanted):
-        if not self._read_stored():
+    def _send(self, edited, stored, error):
+        if error is not None:
+            self._unreachable(error)
             return
-        differ = [name for name in settings.NAMES if self.stored[name] != wanted[name]]
+        self.stored = stored
+        changes = {name: value for name, value in edited.items() if value != stored[name]}
+        if not changes:
+            self._filled.update(edited)
+            self._say('no change: the edited fields hold the stored settings')
+            return
+        try:
+            phases = settings_form.publish_phases(self.joint, stored, changes)
+        except settings_form.EntryError as error:
+            self._say('refused, nothing sent: the stored settings changed since they were read '
+                      '(Get shows them):\n%s' % error, error=True)
+            return
+        self._send_phase(phases, [])
+
+    def _send_phase(self, phases, sent):
+        """Publish phases[0]; once get_config shows it stored, the next phase."""
+        phase, rest = phases[0], phases[1:]
+        for name, value in phase:
+            self._client.set_setting(self.joint, name, value)
+        sent = sent + phase
+        self._say('sent %s; checking...' % describe(sent))
+        self._start(lambda: wait_stored(self._client, self.joint, phase, CONFIRM_WITHIN_S),
+                    CONFIRM_WITHIN_S + READ_TIMEOUT_S,
+                    lambda stored, error: self._confirmed(phase, rest, sent, stored, error))
+
+    def _confirmed(self, phase, rest, sent, stored, error):
+        unsent = '; not sent: %s' % describe([c for p in rest for c in p]) if rest else ''
+        if error is not None:
+            self._say('sent %s, but config_%s did not answer the check: %s%s' % (
+                describe(sent), self._client.side, error, unsent), error=True)
+            return
+        self.stored = stored
+        differ = [name for name, value in phase if stored[name] != value]
         if differ:
-            self._say('not stored by config_%s: %s (see its log)' % (self._client.side, ', '.join(
-                '%s is %s' % (n, settings_form.field_text(self.stored[n])) for n in differ)),
+            self._say('not stored by config_%s: %s (see its log)%s' % (self._client.side, ', '.join(
+                '%s is %s' % (n, settings_form.field_text(stored[n])) for n in differ), unsent),
                 error=True)
+        elif rest:
+            self._send_phase(rest, sent)
         else:
+            self._filled.update(sent)
             self._say('saved: joint %d settings stored and sent to the puppet' % self.joint)
 
     def send_setpoint(self):
@@ -153,14 +210,32 @@ class JointTab(QtWidgets.QWidget):
         self._say('setpoint %s rad sent (the puppet follows it in hold mode)'
                   % settings_form.field_text(angle_rad))
 
-    def _read_stored(self):
-        try:
-            self.stored = self._client.get_config(self.joint)
-        except ConfigUnavailable as error:
-            self._say('config node not reachable, nothing changed: %s' % error, error=True)
-            return False
-        return True
+    def _read(self, on_done):
+        """Read get_config off the GUI thread; on_done(stored or None, error or None) after."""
+        self._start(lambda: self._client.get_config(self.joint), READ_TIMEOUT_S, on_done)
+
+    def _start(self, work, timeout_s, on_done):
+        """Run work() on a worker thread, Get and Set disabled until on_done(result, error)."""
+        self._task.start(work, functools.partial(self._answered, on_done), timeout_s)
+        self._enable_buttons()
+
+    def _answered(self, on_done, result, error):
+        self._enable_buttons()
+        on_done(result, error)
+
+    def _unreachable(self, error):
+        self._say('config node not reachable, nothing changed: %s' % error, error=True)
+
+    def _enable_buttons(self):
+        for button in (self.get_button, self.set_button):
+            button.setEnabled(not self.busy())
 
     def _say(self, text, error=False):
         self.message.setText(text)
         self.message.setStyleSheet(ERROR_STYLE if error else OK_STYLE)
+
+
+def describe(changes):
+    """Return 'name = value, ...' for [(name, value), ...]."""
+    return ', '.join('%s = %s' % (name, settings_form.field_text(value))
+                     for name, value in changes)

@@ -5,8 +5,8 @@ from PyQt5 import QtCore, QtGui, QtWidgets
 
 from robopuppet import settings
 from robopuppet.gui import state
+from robopuppet.teleop import HEARTBEAT_TIMEOUT_S
 
-HEARTBEAT_STALE_S = 2.5  # the firmware beats at 1 Hz: more than two missed beats is stale
 LINK_STALE_S = 5.0       # diagnostics older than this are shown as not updating
 
 GREEN, AMBER, RED, GREY, BLUE = '#c8e6c9', '#ffe0b2', '#ffcdd2', '#e0e0e0', '#bbdefb'
@@ -102,7 +102,7 @@ class MainTab(QtWidgets.QWidget):
             self.heartbeat_label.setText('no heartbeat yet')
         else:
             self.heartbeat_label.setText('last heartbeat %.1f s ago' % age)
-        paint(self.heartbeat_label, RED if age is None or age > HEARTBEAT_STALE_S else GREEN)
+        paint(self.heartbeat_label, RED if age is None or age > HEARTBEAT_TIMEOUT_S else GREEN)
         self.button_label.setText('button held: %s   last pressed: %s' % (
             '—' if snap.button is None else (snap.button or 'none'), snap.last_button or 'none'))
         for radio, opmode in ((self.limp_radio, 'limp'), (self.hold_radio, 'hold')):

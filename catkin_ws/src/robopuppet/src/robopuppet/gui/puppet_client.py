@@ -15,6 +15,10 @@ from robopuppet_msgs.srv import GetConfig
 
 SIM_NAMESPACE = '/puppet_sim/arm_%s'
 HAND_JOINTS = tuple('joint_%d' % joint for joint in settings.JOINTS)
+# Incoming messages each subscriber keeps when its callback falls behind (older ones are
+# dropped); /diagnostics carries every node's statuses, so it keeps more.
+QUEUE_SIZE = 10
+DIAGNOSTICS_QUEUE_SIZE = 100
 
 
 class ConfigUnavailable(RuntimeError):
@@ -39,13 +43,17 @@ class PuppetClient:
         self._clock = clock
         self._link_key = 'serial_%s' % side
         ns = self.ns
-        sub = rospy.Subscriber
+
+        def sub(topic, kind, callback, queue_size=QUEUE_SIZE, **kwargs):
+            return rospy.Subscriber(topic, kind, callback, queue_size=queue_size, **kwargs)
+
         self._subscribers = [
             sub(ns + '/heartbeat', Empty, lambda _: arm_state.on_heartbeat(clock())),
             sub(ns + '/opmode', String, self._on_opmode),
             sub(ns + '/teleop_state', TeleopState, self._on_teleop),
             sub(ns + '/user_btn', UInt8, lambda msg: arm_state.on_button(msg.data)),
-            sub('/diagnostics', DiagnosticArray, self._on_diagnostics),
+            sub('/diagnostics', DiagnosticArray, self._on_diagnostics,
+                queue_size=DIAGNOSTICS_QUEUE_SIZE),
         ]
         for gripper in range(codec.NUM_GRIPPERS):
             self._subscribers.append(sub('%s/gripper_%d' % (ns, gripper), Float32,
@@ -86,7 +94,10 @@ class PuppetClient:
         self._setting_pubs[joint, name].publish(Float32(value))
 
     def get_config(self, joint, timeout_s=1.0):
-        """Return the stored {name: value} of a joint.
+        """Return the stored {name: value} of a joint. Blocks: call it off the GUI thread.
+
+        Only finding the service is bounded (timeout_s); a config node that accepts the call and
+        never answers blocks the caller, so the GUI gives up on its own deadline (JointTab).
 
         Raises:
             ConfigUnavailable: the service is not there within timeout_s or the call failed.

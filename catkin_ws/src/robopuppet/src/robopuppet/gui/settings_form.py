@@ -52,23 +52,46 @@ def parse_form(joint, texts):
     return values
 
 
-def publish_order(stored, wanted):
-    """Return the (name, value) changes from `stored` to `wanted`, in a safe order.
+def publish_phases(joint, stored, changes):
+    """Split changes into phases that the config node accepts in whatever order they arrive.
 
-    The config node checks every incoming setting against the values it holds, so a minimum and
-    maximum must arrive in an order in which each step keeps min <= max: when the new minimum
-    is above the stored maximum, the maximum goes first.
+    Each setting is its own topic and ROS keeps no order across topics, so the settings of one
+    phase may be applied in any order (by the config node and by the serial node alike). The
+    caller publishes a phase, waits until get_config shows it stored, then publishes the next.
+    A minimum and a maximum that both change need two phases only when one must be stored
+    first: a new minimum above the stored maximum needs the new maximum first, a new maximum
+    below the stored minimum needs the new minimum first. Otherwise every step keeps min <= max.
 
     Args:
+        joint: joint index 0..6.
         stored: {name: value} the config node holds now (from get_config).
-        wanted: {name: value}, already checked by parse_form.
+        changes: {name: value} to send, each already checked by parse_form.
+    Returns:
+        [phase, ...], one or two lists of (name, value) in settings.NAMES order; [] when
+        changes is empty.
+    Raises:
+        EntryError: a change breaks the rules together with a stored value it leaves alone
+            (e.g. a new minimum above a stored maximum that someone else changed).
     """
-    changes = [name for name in settings.NAMES if wanted[name] != stored[name]]
+    result = dict(stored, **changes)
+    errors = []
+    for name in changes:
+        try:
+            config_store.validate(result, joint, name, changes[name])
+        except config_store.InvalidSetting as error:
+            errors.append(str(error))
+    if errors:
+        raise EntryError('\n'.join(errors))
+    later = set()
     for low, high in settings.RANGE_PAIRS:
-        if low in changes and high in changes and wanted[low] > stored[high]:
-            changes.remove(high)
-            changes.insert(changes.index(low), high)
-    return [(name, wanted[name]) for name in changes]
+        if low in changes and high in changes:
+            if changes[low] > stored[high]:
+                later.add(low)
+            elif changes[high] < stored[low]:
+                later.add(high)
+    phases = [[(name, changes[name]) for name in settings.NAMES
+               if name in changes and (name in later) == second] for second in (False, True)]
+    return [phase for phase in phases if phase]
 
 
 def parse_setpoint(text, stored=None):
