@@ -10,8 +10,8 @@ writes angle, voltage and encoder status of all seven joints and a heartbeat int
 With --ros (needs a roscore at ROS_MASTER_URI) the GUI uses the real PuppetClient, and a child
 process publishes the same at the rate on the seven joints' angle, voltage and enc_stat topics
 and the heartbeat topic (22 messages per period: 2200 messages/s at 100 Hz), so rospy's message
-handling counts in the GUI's CPU share. The arm is in hold mode, so the setpoint curves are drawn too. The
-window has its default size. For each case the script prints frames per second (frame() calls,
+handling counts in the GUI's CPU share. The arm is in hold mode, so the setpoint curves are
+drawn too. The window has its default size. For each case the script prints frames per second (frame() calls,
 each draining the buffers and redrawing the visible tab), Paint events per second of that tab's
 plot or table, and the process CPU time per wall second (100 % = one core). Cases: a joint tab
 at 30 Hz (the default ~frame_rate), the same tab unthrottled (the most this machine can draw),

@@ -112,5 +112,6 @@ def parse_setpoint(text, stored=None):
         raise EntryError('setpoint: %r is not a finite number' % text.strip())
     if stored is not None and not stored['angle_min'] <= angle_rad <= stored['angle_max']:
         raise EntryError('setpoint: %s rad is outside the angle limits [%s, %s]' % (
-            field_text(angle_rad), field_text(stored['angle_min']), field_text(stored['angle_max'])))
+            field_text(angle_rad), field_text(stored['angle_min']),
+            field_text(stored['angle_max'])))
     return angle_rad
