@@ -1,5 +1,4 @@
 """serial_X: the bridge between the puppet's microcontroller (serial frames) and ROS topics."""
-import threading
 import time
 
 import rospy
@@ -7,18 +6,14 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Empty, Float32, String, UInt8
 
-from robopuppet import codec, config_store, settings
+from robopuppet import codec, settings
+from robopuppet.device_settings import DeviceSettings
 from robopuppet.serial_link import SerialLink
 from robopuppet.teleop import HEARTBEAT_TIMEOUT_S
-from robopuppet_msgs.srv import GetConfig
 
 OPEN_RETRY_S = 0.5  # pause between attempts to open a missing or lost port
-RETRY_S = 1.0  # pause between attempts to load the settings or to wake a silent device
-# A joint_J/<setting> message makes the node re-read that joint from get_config this long after
-# the joint's last such message (a burst gives one read), and again later in case the config
-# node had not stored the value yet.
-RESYNC_AFTER_S = (0.2, 2.0)
-LOOP_S = 0.05
+WAKE_S = 1.0  # pause between re-opens of a silent device
+LOOP_S = 0.05  # period of the node's loop (settings, silence, diagnostics)
 
 
 class SerialNode:
@@ -28,7 +23,8 @@ class SerialNode:
     device, then sends opmode limp. Until then (e.g. while the config node is down) the device
     runs on firmware defaults, so no joint_states and no joint_J/angle, voltage or enc_stat are
     published. The device mirrors what the config node stored: a joint_J/<setting> message only
-    makes the node re-read that joint from get_config and send what differs. A missing, vanished
+    makes the node re-read that joint from get_config and send what differs (see
+    robopuppet.device_settings). A missing, vanished
     or silent port is logged once and retried; no byte sequence stops the node.
 
     Publishes (in <ns> = /puppet/arm_<side>):
@@ -70,16 +66,8 @@ class SerialNode:
         self._topic_period_s = 1.0 / topic_rate_hz
         self._name = rospy.get_name()
         self._decoder = codec.Decoder(codec.types_sent_by(codec.TO_HOST))
-        self._lock = threading.Lock()  # _resync, _loaded and _generation
-        self._device_config = config_store.defaults()  # what the device holds (main loop only)
-        self._resync = {}  # joint: times to re-read it from get_config
-        self._need_load = threading.Event()
         self._last_frame_s = self._last_heartbeat_s = None
         self._silent = False
-        self._loaded = False  # the settings are in the device since the current (re)connect
-        self._generation = 0  # counts (re)connects and wake-ups that need a load
-        self._waiting_logged = False
-        self._next_load_s = 0.0
         self._positions = [0.0] * settings.NUM_JOINTS
         self._efforts = [0.0] * settings.NUM_JOINTS
         self._status = [None] * settings.NUM_JOINTS
@@ -88,12 +76,12 @@ class SerialNode:
         self._grippers = [None] * codec.NUM_GRIPPERS
         self._next_topics_s = 0.0
         self._incomplete_sets = 0
-        self._make_publishers()
-        self._make_subscribers()
-        self._get_config = rospy.ServiceProxy(self._ns + '/get_config', GetConfig)
         self._link = SerialLink(self._port_name, int(rospy.get_param('~baud_rate', 115200)),
                                 self._on_connect, self._on_data, rospy.loginfo, rospy.logwarn,
                                 retry_s=OPEN_RETRY_S)
+        self._settings = DeviceSettings(self._ns, self._link.write, self._name, self._port_name)
+        self._make_publishers()
+        self._make_subscribers()
 
     def _make_publishers(self):
         ns, queue = self._ns, 50
@@ -116,7 +104,7 @@ class SerialNode:
                                                self._on_setpoint, joint, queue_size=10))
             self._subs.extend(
                 rospy.Subscriber('%s/joint_%d/%s' % (ns, joint, name), Float32,
-                                 self._on_setting, joint, queue_size=100)
+                                 lambda _msg, j: self._settings.mark(j), joint, queue_size=100)
                 for name in settings.NAMES)
 
     def run(self):
@@ -125,11 +113,7 @@ class SerialNode:
         rospy.on_shutdown(self._link.stop)
         frames_before, next_diag_s = 0, time.monotonic()
         while not rospy.is_shutdown():
-            if (self._need_load.is_set() and self._link.connected
-                    and time.monotonic() >= self._next_load_s):
-                self._load_settings()
-            elif self._loaded:
-                self._resync_due()
+            self._settings.step(self._link.connected)
             self._check_silence()
             now = time.monotonic()
             if now >= next_diag_s:
@@ -141,16 +125,12 @@ class SerialNode:
     # Device -> ROS (reader thread) ----------------------------------------------------------
     def _on_connect(self):
         self._last_frame_s = time.monotonic()
-        self._unload()
-        if not self._silent:  # a silent device gets its settings when it talks again
-            self._need_load.set()
+        # A silent device gets its settings when it talks again.
+        self._unload(load=not self._silent)
 
-    def _unload(self):
-        """Withhold the joint topics until the settings are loaded again (reader thread)."""
-        with self._lock:
-            self._generation += 1
-            self._loaded = False
-        self._waiting_logged = False
+    def _unload(self, load):
+        """Withhold the joint topics until the settings are loaded again."""
+        self._settings.unload(load)
         self._seen = None  # then start with the first whole set after loading
         self._status = [None] * settings.NUM_JOINTS  # and publish every enc_stat at once
 
@@ -161,8 +141,7 @@ class SerialNode:
                 rospy.loginfo('%s: frames from %s again; reloading the settings in case the '
                               'device restarted', self._name, self._port_name)
                 self._silent = False
-                self._unload()
-                self._need_load.set()
+                self._unload(load=True)
             kind = type(message)
             if kind is codec.JointState:
                 self._on_joint_state(message)
@@ -177,12 +156,14 @@ class SerialNode:
     def _on_joint_state(self, message):
         joint = message.joint
         last = joint == settings.NUM_JOINTS - 1
-        if not self._loaded:
+        if not self._settings.loaded:
             return  # firmware defaults (home_angle 0, sign_angle +1): publish nothing
-        if self._seen is None:  # loaded during this set: start with the next one
-            if last:
-                self._seen = set()
-            return
+        if self._seen is None:  # the first set since the load starts with joint 0
+            if joint != 0:
+                if last:
+                    self._seen = set()
+                return
+            self._seen = set()
         self._positions[joint] = message.angle_rad
         self._efforts[joint] = message.voltage_v
         status = settings.ENC_STATUS[message.status]
@@ -247,95 +228,17 @@ class SerialNode:
     def _on_setpoint(self, msg, joint):
         self._send([codec.JointSetpoint(joint, msg.data)], 'joint %d setpoint' % joint)
 
-    def _on_setting(self, _msg, joint):
-        # The config node decides what is stored; the device gets that, not the message.
-        now = time.monotonic()
-        with self._lock:
-            self._resync[joint] = [now + delay for delay in RESYNC_AFTER_S]
-
-    def _resync_due(self):
-        """Re-read each joint whose re-read is due and send the device what differs."""
-        now = time.monotonic()
-        with self._lock:
-            due = [j for j, times in self._resync.items() if times[0] <= now]
-        for joint in due:
-            try:
-                self._get_config.wait_for_service(1.0)
-                values = self._get_config(joint)
-            except (rospy.ROSException, rospy.ServiceException) as error:
-                rospy.logwarn_throttle(10.0, '%s: cannot re-read joint %d from %s/get_config '
-                                       '(%s); retrying' % (self._name, joint, self._ns, error))
-                with self._lock:
-                    self._resync[joint][0] = time.monotonic() + RETRY_S
-                continue
-            changed = {n: getattr(values, n) for n in settings.NAMES
-                       if getattr(values, n) != self._device_config[joint][n]}
-            if self._send_config(joint, changed, self._generation):
-                with self._lock:
-                    times = self._resync.get(joint)
-                    if times and times[0] <= now:
-                        times.pop(0)
-                        if not times:
-                            del self._resync[joint]
-
-    def _load_settings(self):
-        """Send all settings from get_config, then opmode limp; on failure retry in ~1 s."""
-        generation = self._generation
-        try:
-            self._get_config.wait_for_service(1.0)
-            config = {j: self._get_config(j) for j in settings.JOINTS}
-        except (rospy.ROSException, rospy.ServiceException) as error:
-            if not self._waiting_logged:
-                rospy.logwarn('%s: cannot load settings from %s/get_config (%s); publishing no '
-                              'joint states until they are loaded; retrying every %.0f s',
-                              self._name, self._ns, error, RETRY_S)
-                self._waiting_logged = True
-            self._next_load_s = time.monotonic() + RETRY_S
-            return
-        sent = all([self._send_config(j, {n: getattr(config[j], n) for n in settings.NAMES},
-                                      generation) for j in settings.JOINTS])
-        if sent and self._send([codec.Opmode(codec.LIMP)], 'opmode limp'):
-            with self._lock:
-                if generation != self._generation:
-                    return  # a reconnect meanwhile: load again
-                self._loaded = True
-                self._need_load.clear()
-            rospy.loginfo('%s: loaded %d settings into the puppet on %s, opmode limp; '
-                          'publishing joint states', self._name,
-                          len(settings.NAMES) * settings.NUM_JOINTS, self._port_name)
-
-    def _send_config(self, joint, values, generation):
-        """Send {name: value} of a joint as one write; return False if the link failed.
-
-        A value that cannot be encoded (not finite) is logged and skipped. The mirror of the
-        device is updated only if no (re)connect happened since `generation`.
-        """
-        frames, good = [], {}
-        for name, value in values.items():
-            try:
-                frames.append(codec.encode(codec.JointConfig(joint, settings.CONFIG_ID[name],
-                                                             value)))
-                good[name] = value
-            except codec.CodecError as error:
-                rospy.logerr('%s: get_config gave joint %d %s = %r (%s); not sent',
-                             self._name, joint, name, value, error)
-        if frames and not self._link.write(b''.join(frames)):
-            return False
-        if generation == self._generation:
-            self._device_config[joint].update(good)
-        return True
-
     def _check_silence(self):
         """Re-open the port after ~silence_timeout without frames, then every second."""
         last = self._last_frame_s
         if not self._link.connected or last is None:
             return
         quiet_s = time.monotonic() - last
-        if quiet_s > (RETRY_S if self._silent else self._silence_timeout_s):
+        if quiet_s > (WAKE_S if self._silent else self._silence_timeout_s):
             if not self._silent:
                 rospy.logwarn('%s: no frame from %s for %.1f s; re-opening the port every '
                               '%.0f s until it talks', self._name, self._port_name, quiet_s,
-                              RETRY_S)
+                              WAKE_S)
                 self._silent = True
             self._last_frame_s = time.monotonic()
             self._link.reopen()
@@ -348,7 +251,7 @@ class SerialNode:
             level, text = DiagnosticStatus.ERROR, 'link down: %s not open' % self._port_name
         elif self._silent:
             level, text = DiagnosticStatus.ERROR, 'device silent'
-        elif not self._loaded:
+        elif not self._settings.loaded:
             level, text = (DiagnosticStatus.WARN, 'waiting for settings from get_config; '
                            'joint states withheld')
         elif heartbeat is None or now - heartbeat > HEARTBEAT_TIMEOUT_S:
@@ -357,7 +260,8 @@ class SerialNode:
             level, text = DiagnosticStatus.OK, 'link up'
         dec, link = self._decoder, self._link
         values = (('port', self._port_name), ('link', 'up' if link.connected else 'down'),
-                  ('settings loaded', str(self._loaded)), ('frames per s', str(frames_per_s)),
+                  ('settings loaded', str(self._settings.loaded)),
+                  ('frames per s', str(frames_per_s)),
                   ('s since heartbeat', since), ('dropped bytes', str(dec.dropped_bytes)),
                   ('bad checksums', str(dec.bad_checksums)), ('unknown ids', str(dec.unknown_ids)),
                   ('invalid frames', str(dec.invalid_frames)),

@@ -55,7 +55,8 @@ def wait_for(predicate, timeout_s, step_s=0.02):
 
 
 class Watcher:
-    """Keep the device's configs and opmodes, joint states, diagnostics and serial_L warnings."""
+    """Keep the device's configs and opmodes, joint states, diagnostics, serial_L's warnings
+    and config_L's errors."""
 
     def __init__(self):
         self.lock = threading.Lock()
@@ -66,6 +67,7 @@ class Watcher:
         self.joint_states = []
         self.diagnostics = {}  # the values, plus 'level' and 'message'
         self.warnings = []
+        self.config_errors = []  # config_L's errors
         self._subs = [
             rospy.Subscriber(SIM + '/device_config', Float32MultiArray, self._on_config),
             rospy.Subscriber(SIM + '/device_opmode', String, self._on_opmode),
@@ -99,6 +101,9 @@ class Watcher:
         if msg.name == '/serial_L' and msg.level >= Log.WARN:
             with self.lock:
                 self.warnings.append(msg.msg)
+        if msg.name == '/config_L' and msg.level >= Log.ERROR:
+            with self.lock:
+                self.config_errors.append(msg.msg)
 
     def states_since(self, start_s):
         with self.lock:
