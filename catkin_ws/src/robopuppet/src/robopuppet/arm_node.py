@@ -59,7 +59,7 @@ class ArmNode:
         <ns>/joint_J/setpoint (std_msgs/Float32), <ns>/teleop_state
         (robopuppet_msgs/TeleopState, latched), /diagnostics (diagnostic_msgs/DiagnosticArray).
       Parameters: ~arm_side ('L' or 'R', required; <ns> is /puppet/arm_<side>),
-        ~command_rate (Hz, 100), ~state_timeout (s, 0.3: the puppet is silent after this long
+        ~command_rate (Hz, 100), ~state_timeout (s, 0.4: the puppet is silent after this long
         without joint states), ~heartbeat_timeout (s, 2.5), ~approach_speed (rad/s, 0.5: joint
         speed while Baxter closes in on the puppet's pose when following starts).
     """

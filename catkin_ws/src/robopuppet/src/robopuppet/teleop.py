@@ -23,7 +23,8 @@ LIMP, HOLD = 'limp', 'hold'
 SIDES = ('left', 'right')
 BUTTON_HOLD, BUTTON_LEFT, BUTTON_RIGHT = 1, 2, 3
 GRIP_PRESSED_BELOW, GRIP_RELEASED_ABOVE = 0.3, 0.7  # end-piece reading, with hysteresis
-STATE_TIMEOUT_S = 0.3      # the puppet is silent after this long without joint states
+STATE_TIMEOUT_S = 0.4      # the puppet is silent after this long without joint states (4 sets at
+                           # 10 Hz): within the 0.5 s a stop must take, yet not tripped by a stall
 HEARTBEAT_TIMEOUT_S = 2.5  # ... or without a heartbeat (the firmware beats at 1 Hz)
 CLAIM_EXPIRY_S = 1.5       # the other puppet's claim on an arm lasts this long unless renewed
 HOLD_RESENDS, HOLD_RESEND_PERIOD_S = 4, 0.1  # entering hold sends the setpoints 4 more times

@@ -234,7 +234,7 @@ def test_watchdog_stops_commands_when_joint_states_stop():
         step = rig.step(0.01, feed=False)
         if not step.commands:
             break
-    assert rig.t - quiet_since == pytest.approx(0.3, abs=0.011)
+    assert rig.t - quiet_since == pytest.approx(teleop.STATE_TIMEOUT_S, abs=0.011)
     assert rig.tp.state == FAULT and 'joint states' in rig.tp.detail
     assert rig.tp.following == {'left': False, 'right': False}
 
