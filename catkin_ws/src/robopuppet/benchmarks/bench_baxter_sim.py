@@ -3,12 +3,12 @@
 
 Usage (after `. tools/env.sh`): bench_baxter_sim.py [DURATION_S]  (default 20)
 Starts its own roscore on a free port (ROS_HOME and logs in a temporary directory, removed at
-the end) and the baxter_sim node, enables the robot, sends mode-1
-joint commands to both arms at 100 Hz, and prints the joint_states rate, the inter-message
-jitter (|interval - 10 ms|, from header stamps = the node's loop, and from arrival times = what
-a subscriber sees) and the node's CPU share (% of one core). For comparison a separate process
-runs a bare Python 100 Hz sleep loop during the same window: the floor that the machine's load
-(other users of the 2 cores) allows at that time.
+the end) and the baxter_sim node, enables the robot, sends mode-1 joint commands to both arms at
+100 Hz, and prints the joint_states rate, the inter-message jitter (|interval - 10 ms|, from
+header stamps = the node's loop, and from arrival times = what a subscriber sees; both taken by
+a subscriber in a process of its own, like a subscriber node) and the node's CPU share (% of one
+core). For comparison another process runs a bare Python 100 Hz sleep loop in the same window:
+the floor that the machine's load (other users of its cores) allows at that time.
 """
 import math
 import multiprocessing
@@ -55,16 +55,37 @@ def command_loop(rospy, publishers, stop):
         rate.sleep()
 
 
-def sleep_loop_intervals(duration_s):
-    """Return the intervals of a bare Python 100 Hz sleep loop: this machine's jitter floor."""
+def sleep_loop_intervals(start, end):
+    """Return the intervals of a bare Python 100 Hz sleep loop from start to end (monotonic s):
+    the jitter floor that the machine's load allows."""
+    time.sleep(max(0.0, start - time.monotonic()))
     wakes = []
     deadline = time.monotonic()
-    end = deadline + duration_s
     while deadline < end:
         deadline += NOMINAL_S
         time.sleep(max(0.0, deadline - time.monotonic()))
         wakes.append(time.monotonic())
     return [b - a for a, b in zip(wakes, wakes[1:])]
+
+
+def listen(start, end):
+    """Subscribe to /robot/joint_states in a process of its own, like a subscriber node, and
+    return (header stamps, arrival times) of the messages that arrive from start to end."""
+    import rospy
+    from sensor_msgs.msg import JointState
+    stamps, arrivals = [], []
+
+    def on_joint_states(msg):
+        now = time.monotonic()
+        if start <= now < end:
+            arrivals.append(now)
+            stamps.append(msg.header.stamp.to_sec())
+
+    rospy.init_node('bench_baxter_sim_listener', disable_signals=True)
+    rospy.Subscriber('/robot/joint_states', JointState, on_joint_states, queue_size=100)
+    time.sleep(max(0.0, end - time.monotonic()) + 0.1)
+    rospy.signal_shutdown('benchmark done')
+    return stamps, arrivals
 
 
 def report(name, intervals_s):
@@ -92,15 +113,6 @@ def main():
         from sensor_msgs.msg import JointState
         from std_msgs.msg import Bool
         rospy.init_node('bench_baxter_sim', disable_signals=True)
-        arrivals, stamps = [], []
-        recording = threading.Event()
-
-        def on_joint_states(msg):
-            if recording.is_set():
-                arrivals.append(time.monotonic())
-                stamps.append(msg.header.stamp.to_sec())
-
-        rospy.Subscriber('/robot/joint_states', JointState, on_joint_states, queue_size=100)
         rospy.wait_for_message('/robot/joint_states', JointState, timeout=20.0)
         enable = rospy.Publisher('/robot/set_super_enable', Bool, queue_size=1, latch=True)
         enable.publish(Bool(True))
@@ -111,15 +123,18 @@ def main():
         commander = threading.Thread(target=command_loop, args=(rospy, publishers, stop))
         commander.start()
         process = psutil.Process(node.pid)
-        with multiprocessing.get_context('spawn').Pool(1) as pool:
-            floor = pool.apply_async(sleep_loop_intervals, (duration_s,))
-            time.sleep(2.0)   # connections settle, the arms start moving, the floor loop starts
+        # One window for all measurements, after the listener has connected and the arms move.
+        start = time.monotonic() + 3.0
+        end = start + duration_s
+        with multiprocessing.get_context('spawn').Pool(2) as pool:
+            floor = pool.apply_async(sleep_loop_intervals, (start, end))
+            listened = pool.apply_async(listen, (start, end))
+            time.sleep(start - time.monotonic())
             cpu_before, wall_before = process.cpu_times(), time.monotonic()
-            recording.set()
-            time.sleep(duration_s)
-            recording.clear()
+            time.sleep(end - time.monotonic())
             cpu_after, wall_after = process.cpu_times(), time.monotonic()
             floor = floor.get(timeout=10.0)
+            stamps, arrivals = listened.get(timeout=10.0)
         stop.set()
         commander.join()
         cpu_s = (cpu_after.user + cpu_after.system) - (cpu_before.user + cpu_before.system)
@@ -130,7 +145,8 @@ def main():
         report('stamps', [b - a for a, b in zip(stamps, stamps[1:])])
         report('arrivals', [b - a for a, b in zip(arrivals, arrivals[1:])])
         report('floor', floor)
-        print('  (floor: a bare Python 100 Hz time.sleep loop in another process, same window)')
+        print('  (stamps and arrivals: a subscriber in a process of its own; floor: a bare Python'
+              ' 100 Hz\n   time.sleep loop in another process, same window)')
         print('  node CPU: %.1f %% of one core (%d cores on this machine)'
               % (100.0 * cpu_s / (wall_after - wall_before), psutil.cpu_count()))
         rospy.signal_shutdown('benchmark done')
