@@ -13,30 +13,18 @@ the floor that the machine's load (other users of its cores) allows at that time
 import math
 import multiprocessing
 import os
-import shutil
-import socket
 import subprocess
 import sys
-import tempfile
 import threading
 import time
 
 import psutil
 
+from bench_support import percentile, private_roscore
+
 NODE = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), 'nodes',
                     'baxter_sim')
 NOMINAL_S = 0.01
-
-
-def free_port():
-    with socket.socket() as sock:
-        sock.bind(('127.0.0.1', 0))
-        return sock.getsockname()[1]
-
-
-def percentile(values, fraction):
-    ordered = sorted(values)
-    return ordered[min(len(ordered) - 1, int(math.ceil(fraction * len(ordered))) - 1)]
 
 
 def command_loop(rospy, publishers, stop):
@@ -98,64 +86,56 @@ def report(name, intervals_s):
 
 def main():
     duration_s = float(sys.argv[1]) if len(sys.argv) > 1 else 20.0
-    port = free_port()
-    ros_home = tempfile.mkdtemp(prefix='bench_baxter_sim_')
-    os.environ.update(ROS_MASTER_URI='http://localhost:%d' % port, ROS_HOME=ros_home,
-                      ROS_LOG_DIR=os.path.join(ros_home, 'log'))
-    core = node = None
-    try:
-        core = subprocess.Popen(['roscore', '-p', str(port)], stdout=subprocess.DEVNULL,
-                                stderr=subprocess.DEVNULL)
-        time.sleep(3.0)
-        node = subprocess.Popen([NODE], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        import rospy
-        from baxter_core_msgs.msg import JointCommand
-        from sensor_msgs.msg import JointState
-        from std_msgs.msg import Bool
-        rospy.init_node('bench_baxter_sim', disable_signals=True)
-        rospy.wait_for_message('/robot/joint_states', JointState, timeout=20.0)
-        enable = rospy.Publisher('/robot/set_super_enable', Bool, queue_size=1, latch=True)
-        enable.publish(Bool(True))
-        publishers = {side: rospy.Publisher('/robot/limb/%s/joint_command' % side,
-                                            JointCommand, queue_size=10)
-                      for side in ('left', 'right')}
-        stop = threading.Event()
-        commander = threading.Thread(target=command_loop, args=(rospy, publishers, stop))
-        commander.start()
-        process = psutil.Process(node.pid)
-        # One window for all measurements, after the listener has connected and the arms move.
-        start = time.monotonic() + 3.0
-        end = start + duration_s
-        with multiprocessing.get_context('spawn').Pool(2) as pool:
-            floor = pool.apply_async(sleep_loop_intervals, (start, end))
-            listened = pool.apply_async(listen, (start, end))
-            time.sleep(start - time.monotonic())
-            cpu_before, wall_before = process.cpu_times(), time.monotonic()
-            time.sleep(end - time.monotonic())
-            cpu_after, wall_after = process.cpu_times(), time.monotonic()
-            floor = floor.get(timeout=10.0)
-            stamps, arrivals = listened.get(timeout=10.0)
-        stop.set()
-        commander.join()
-        cpu_s = (cpu_after.user + cpu_after.system) - (cpu_before.user + cpu_before.system)
-        print('baxter_sim benchmark: %.0f s, both arms commanded at 100 Hz (mode 1)' % duration_s)
-        print('  /robot/joint_states: %d messages, %.1f Hz (stamps), %.1f Hz (arrivals)'
-              % (len(stamps), (len(stamps) - 1) / (stamps[-1] - stamps[0]),
-                 (len(arrivals) - 1) / (arrivals[-1] - arrivals[0])))
-        report('stamps', [b - a for a, b in zip(stamps, stamps[1:])])
-        report('arrivals', [b - a for a, b in zip(arrivals, arrivals[1:])])
-        report('floor', floor)
-        print('  (stamps and arrivals: a subscriber in a process of its own; floor: a bare Python'
-              ' 100 Hz\n   time.sleep loop in another process, same window)')
-        print('  node CPU: %.1f %% of one core (%d cores on this machine)'
-              % (100.0 * cpu_s / (wall_after - wall_before), psutil.cpu_count()))
-        rospy.signal_shutdown('benchmark done')
-    finally:
-        for process in (node, core):
-            if process is not None:
-                process.terminate()
-                process.wait(timeout=10)
-        shutil.rmtree(ros_home)
+    node = None
+    with private_roscore('bench_baxter_sim_'):
+        try:
+            node = subprocess.Popen([NODE], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            import rospy
+            from baxter_core_msgs.msg import JointCommand
+            from sensor_msgs.msg import JointState
+            from std_msgs.msg import Bool
+            rospy.init_node('bench_baxter_sim', disable_signals=True)
+            rospy.wait_for_message('/robot/joint_states', JointState, timeout=20.0)
+            enable = rospy.Publisher('/robot/set_super_enable', Bool, queue_size=1, latch=True)
+            enable.publish(Bool(True))
+            publishers = {side: rospy.Publisher('/robot/limb/%s/joint_command' % side,
+                                                JointCommand, queue_size=10)
+                          for side in ('left', 'right')}
+            stop = threading.Event()
+            commander = threading.Thread(target=command_loop, args=(rospy, publishers, stop))
+            commander.start()
+            process = psutil.Process(node.pid)
+            # One window for all measurements, after the listener has connected and the arms move.
+            start = time.monotonic() + 3.0
+            end = start + duration_s
+            with multiprocessing.get_context('spawn').Pool(2) as pool:
+                floor = pool.apply_async(sleep_loop_intervals, (start, end))
+                listened = pool.apply_async(listen, (start, end))
+                time.sleep(start - time.monotonic())
+                cpu_before, wall_before = process.cpu_times(), time.monotonic()
+                time.sleep(end - time.monotonic())
+                cpu_after, wall_after = process.cpu_times(), time.monotonic()
+                floor = floor.get(timeout=10.0)
+                stamps, arrivals = listened.get(timeout=10.0)
+            stop.set()
+            commander.join()
+            cpu_s = (cpu_after.user + cpu_after.system) - (cpu_before.user + cpu_before.system)
+            print('baxter_sim benchmark: %.0f s, both arms commanded at 100 Hz (mode 1)' % duration_s)
+            print('  /robot/joint_states: %d messages, %.1f Hz (stamps), %.1f Hz (arrivals)'
+                  % (len(stamps), (len(stamps) - 1) / (stamps[-1] - stamps[0]),
+                     (len(arrivals) - 1) / (arrivals[-1] - arrivals[0])))
+            report('stamps', [b - a for a, b in zip(stamps, stamps[1:])])
+            report('arrivals', [b - a for a, b in zip(arrivals, arrivals[1:])])
+            report('floor', floor)
+            print('  (stamps and arrivals: a subscriber in a process of its own; floor: a bare Python'
+                  ' 100 Hz\n   time.sleep loop in another process, same window)')
+            print('  node CPU: %.1f %% of one core (%d cores on this machine)'
+                  % (100.0 * cpu_s / (wall_after - wall_before), psutil.cpu_count()))
+            rospy.signal_shutdown('benchmark done')
+        finally:
+            if node is not None:
+                node.terminate()
+                node.wait(timeout=10)
 
 
 if __name__ == '__main__':

@@ -13,7 +13,6 @@ in this process. Prints figures; passes or fails nothing.
 """
 import argparse
 import os
-import socket
 import subprocess
 import sys
 import threading
@@ -23,6 +22,8 @@ import tty
 import psutil
 
 from robopuppet import codec, settings
+
+from bench_support import percentile, private_roscore
 
 STATE_RATES_HZ = (10, 100, 500)
 
@@ -43,12 +44,6 @@ def bench_decoder(total_frames=300000):
         assert decoder.frames == frames
         print('decoder, %5d-byte chunks: %9.0f frames/s  (%d frames, %.2f MB/s)'
               % (chunk, frames / seconds, frames, len(stream) / seconds / 1e6))
-
-
-def free_port():
-    with socket.socket() as sock:
-        sock.bind(('127.0.0.1', 0))
-        return sock.getsockname()[1]
 
 
 class Device:
@@ -89,47 +84,41 @@ def bench_latency(seconds):
     from std_msgs.msg import Float32
     from robopuppet_msgs.srv import GetConfig, GetConfigResponse
 
-    port = free_port()
-    os.environ['ROS_MASTER_URI'] = 'http://127.0.0.1:%d' % port
-    core = subprocess.Popen(['roscore', '-p', str(port)], stdout=subprocess.DEVNULL,
-                            stderr=subprocess.DEVNULL)
     device = Device()
     serial_node = None
-    try:
-        time.sleep(3.0)
-        rospy.init_node('bench_serial', disable_signals=True)
-        rospy.Service('/puppet/arm_L/get_config', GetConfig,
-                      lambda request: GetConfigResponse(**settings.DEFAULTS))
-        received = {}
-        angle_count = [0]
+    with private_roscore('bench_serial_'):
+        try:
+            rospy.init_node('bench_serial', disable_signals=True)
+            rospy.Service('/puppet/arm_L/get_config', GetConfig,
+                          lambda request: GetConfigResponse(**settings.DEFAULTS))
+            received = {}
+            angle_count = [0]
 
-        def on_states(msg):
-            received[int(msg.position[0])] = time.perf_counter()
+            def on_states(msg):
+                received[int(msg.position[0])] = time.perf_counter()
 
-        def on_angle(msg):
-            angle_count[0] += 1
-        rospy.Subscriber('/puppet/arm_L/joint_states', JointState, on_states, queue_size=5000,
-                         tcp_nodelay=True)
-        rospy.Subscriber('/puppet/arm_L/joint_0/angle', Float32, on_angle, queue_size=5000)
-        serial_node = subprocess.Popen(
-            ['rosrun', 'robopuppet', 'serial_interface', '__name:=serial_L', '_arm_side:=L',
-             '_port_name:=%s' % device.path], stdout=subprocess.DEVNULL)
-        deadline = time.monotonic() + 15.0
-        while len(device.received) < 85 and time.monotonic() < deadline:
-            time.sleep(0.05)
-        print('serial node loaded %d settings frames + opmode into the device'
-              % sum(isinstance(m, codec.JointConfig) for m in device.received))
-        process = psutil.Process(serial_node.pid)  # rosrun execs the node's interpreter
-        seq = 1
-        time.sleep(1.0)
-        for rate in STATE_RATES_HZ:
-            seq = _run_rate(device, rate, seconds, seq, received, angle_count, process)
-    finally:
-        if serial_node is not None:
-            serial_node.terminate()
-            serial_node.wait(10)
-        core.terminate()
-        core.wait(10)
+            def on_angle(msg):
+                angle_count[0] += 1
+            rospy.Subscriber('/puppet/arm_L/joint_states', JointState, on_states, queue_size=5000,
+                             tcp_nodelay=True)
+            rospy.Subscriber('/puppet/arm_L/joint_0/angle', Float32, on_angle, queue_size=5000)
+            serial_node = subprocess.Popen(
+                ['rosrun', 'robopuppet', 'serial_interface', '__name:=serial_L', '_arm_side:=L',
+                 '_port_name:=%s' % device.path], stdout=subprocess.DEVNULL)
+            deadline = time.monotonic() + 15.0
+            while len(device.received) < 85 and time.monotonic() < deadline:
+                time.sleep(0.05)
+            print('serial node loaded %d settings frames + opmode into the device'
+                  % sum(isinstance(m, codec.JointConfig) for m in device.received))
+            process = psutil.Process(serial_node.pid)  # rosrun execs the node's interpreter
+            seq = 1
+            time.sleep(1.0)
+            for rate in STATE_RATES_HZ:
+                seq = _run_rate(device, rate, seconds, seq, received, angle_count, process)
+        finally:
+            if serial_node is not None:
+                serial_node.terminate()
+                serial_node.wait(10)
 
 
 def _run_rate(device, rate, seconds, seq, received, angle_count, process):
@@ -153,11 +142,10 @@ def _run_rate(device, rate, seconds, seq, received, angle_count, process):
     latencies = sorted((received[s] - t) * 1000.0 for s, t in sent.items() if s in received)
     lost = len(sent) - len(latencies)
 
-    def pct(p):
-        return latencies[min(len(latencies) - 1, int(p / 100.0 * len(latencies)))]
     print('%4d Hz: %5d sets, %d lost; latency p50 %.2f ms, p99 %.2f ms, max %.2f ms; '
           'joint_0/angle %.0f Hz; serial node CPU %.1f%% of one core'
-          % (rate, len(sent), lost, pct(50), pct(99), latencies[-1],
+          % (rate, len(sent), lost, percentile(latencies, 0.5), percentile(latencies, 0.99),
+             latencies[-1],
              (angle_count[0] - angles_before) / wall, 100.0 * cpu / wall))
     return seq
 

@@ -19,13 +19,10 @@ Also printed: the CPU share of the host stack (config, serial and arm nodes) at 
 import argparse
 import os
 import random
-import shutil
 import signal
-import socket
 import statistics
 import subprocess
 import sys
-import tempfile
 import threading
 import time
 
@@ -35,6 +32,8 @@ from baxter_core_msgs.msg import JointCommand
 from sensor_msgs.msg import JointState
 
 from robopuppet import codec
+
+from bench_support import percentile, private_roscore
 
 HOST_NODES = ('config', 'serial', 'arm')
 POSE = [0.2, 0.4, 0.3, 1.0, -0.3, 0.6, 0.25]
@@ -134,11 +133,6 @@ def stop(process):
             process.wait()
 
 
-def percentile(values, q):
-    ordered = sorted(values)
-    return ordered[min(int(q / 100.0 * len(ordered)), len(ordered) - 1)]
-
-
 def run_scenario(name, rate_hz, legacy, samples, work, log):
     """Run one configuration; return (latencies s, cpu shares % by node, command count)."""
     link = os.path.join(work, 'puppet_%s' % name.replace(' ', '_'))
@@ -215,53 +209,45 @@ def run_scenario(name, rate_hz, legacy, samples, work, log):
         device.close()
 
 
-def free_port():
-    with socket.socket() as sock:
-        sock.bind(('127.0.0.1', 0))
-        return sock.getsockname()[1]
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('--samples', type=int, default=200, help='moves per configuration')
     options = parser.parse_args()
-    work = tempfile.mkdtemp(prefix='robopuppet-bench-')
-    port = free_port()
-    os.environ['ROS_MASTER_URI'] = 'http://127.0.0.1:%d' % port
-    os.environ['ROS_HOME'] = work
+    with private_roscore('bench_teleop_') as work:
+        run_all(options.samples, work)
+
+
+def run_all(samples, work):
+    """Start the Baxter stand-in, run every configuration and print its figures."""
     log = open(os.path.join(work, 'nodes.log'), 'w')
-    core = start(['roscore', '-p', str(port)], log)
     baxter = None
     try:
-        time.sleep(3.0)
         baxter = start(['rosrun', 'robopuppet', 'baxter_sim', '_gripper_calibrated:=true'], log)
         rospy.init_node('bench_teleop', disable_signals=True)
-        scenarios = [('2020 timing (10 Hz loops)', 10.0, True, max(options.samples // 4, 30)),
-                     ('comm_rate 10', 10.0, False, max(options.samples // 4, 30)),
-                     ('comm_rate 100', 100.0, False, options.samples),
-                     ('comm_rate 250', 250.0, False, options.samples),
-                     ('comm_rate 500', 500.0, False, options.samples),
-                     ('comm_rate 1000', 1000.0, False, options.samples)]
+        scenarios = [('2020 timing (10 Hz loops)', 10.0, True, max(samples // 4, 30)),
+                     ('comm_rate 10', 10.0, False, max(samples // 4, 30)),
+                     ('comm_rate 100', 100.0, False, samples),
+                     ('comm_rate 250', 250.0, False, samples),
+                     ('comm_rate 500', 500.0, False, samples),
+                     ('comm_rate 1000', 1000.0, False, samples)]
         print('Latency from a puppet movement to the first JointCommand carrying it')
         print('%-27s %7s %8s %8s %8s %9s  %s' % ('configuration', 'samples', 'p50 ms', 'p99 ms',
                                                 'target', 'cmd/s', 'CPU % (config serial arm)'))
-        for name, rate, legacy, samples in scenarios:
+        for name, rate, legacy, count in scenarios:
             print('running %s ...' % name, file=sys.stderr, flush=True)
-            latencies, cpu, command_rate = run_scenario(name, rate, legacy, samples, work, log)
-            lost = samples - len(latencies)
+            latencies, cpu, command_rate = run_scenario(name, rate, legacy, count, work, log)
+            lost = count - len(latencies)
             target = '' if legacy else '%.1f' % (1000.0 / rate + 3.0)
             print('%-27s %7d %8.1f %8.1f %8s %9.0f  %s%s' % (
                 name, len(latencies), 1000 * statistics.median(latencies),
-                1000 * percentile(latencies, 99), target, command_rate,
+                1000 * percentile(latencies, 0.99), target, command_rate,
                 ' '.join('%.1f' % cpu[k] for k in HOST_NODES),
                 '  (%d moves never arrived)' % lost if lost else ''), flush=True)
     finally:
         rospy.signal_shutdown('done')
         if baxter is not None:
             stop(baxter)
-        stop(core)
         log.close()
-        shutil.rmtree(work, ignore_errors=True)
 
 
 if __name__ == '__main__':
