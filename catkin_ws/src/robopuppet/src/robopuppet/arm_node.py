@@ -83,7 +83,6 @@ class ArmNode:
         self._statuses = ['Disconnected'] * settings.NUM_JOINTS
         self._robot_enabled = False
         self._robot_state_t = self._robot_joints_t = None
-        self._robot_pose = {}
         self._gripper_id = {s: 0 for s in teleop.SIDES}
         self._calibrate_sent_t = {s: -1e9 for s in teleop.SIDES}
         self._gripper_sequence = 0
@@ -165,11 +164,11 @@ class ArmNode:
 
     def _on_robot_joints(self, msg):
         position = dict(zip(msg.name, msg.position))
+        pose = {s: [position[n] for n in names] for s, names in self._joint_names.items()
+                if all(n in position for n in names)}
         with self._lock:
-            for s in teleop.SIDES:
-                if all(n in position for n in self._joint_names[s]):
-                    self._robot_pose[s] = [position[n] for n in self._joint_names[s]]
             self._robot_joints_t = time.monotonic()
+            self._teleop.on_robot_pose(self._robot_joints_t, pose)
 
     def _on_gripper_properties(self, msg, side):
         with self._lock:
@@ -202,7 +201,7 @@ class ArmNode:
     def _run(self, now):
         """Step the teleop state machine and carry out its decisions. Call with the lock held."""
         present = self._robot_present(now)
-        self._teleop.on_robot(now, present and self._robot_enabled, self._robot_pose)
+        self._teleop.on_robot(now, present and self._robot_enabled)
         if not (present and self._robot_enabled) and now - self._last_enable_t > ENABLE_PERIOD_S:
             self._last_enable_t = now
             self._pub_enable.publish(Bool(True))

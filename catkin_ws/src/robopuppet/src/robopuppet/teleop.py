@@ -146,12 +146,15 @@ class Teleop:
         for side, claimed in zip(SIDES, (follow_left, follow_right)):
             self._claim_t[side] = t if claimed else None
 
-    def on_robot(self, t, enabled, pose):
-        """Take Baxter's state: enabled (bool) and {side: 7 joint angles rad} of its arms.
+    def on_robot(self, t, enabled):
+        """Take whether Baxter is present and enabled."""
+        self._robot_ok = enabled
+
+    def on_robot_pose(self, t, pose):
+        """Take {side: 7 joint angles rad} of Baxter's arms.
 
         An arm pose with a non-finite angle is ignored (the previous pose stays).
         """
-        self._robot_ok = enabled
         self._robot_pose.update((side, list(angles)) for side, angles in pose.items()
                                 if all_finite(angles))
 

@@ -30,7 +30,8 @@ class Rig:
             self.tp.on_heartbeat(self.t)
 
     def robot(self, enabled=True, pose=None):
-        self.tp.on_robot(self.t, enabled, pose or NEUTRAL)
+        self.tp.on_robot(self.t, enabled)
+        self.tp.on_robot_pose(self.t, pose or NEUTRAL)
 
     def step(self, dt=0.01, feed=True):
         self.t += dt
@@ -332,7 +333,8 @@ def test_a_claim_that_is_not_renewed_expires():
 
 def test_watchdog_works_before_the_first_heartbeat():
     tp = teleop.Teleop('R', LIMITS)  # fed joint states, never a heartbeat
-    tp.on_robot(0.0, True, NEUTRAL)
+    tp.on_robot(0.0, True)
+    tp.on_robot_pose(0.0, NEUTRAL)
     t = 0.0
     while True:
         tp.on_joint_states(t, WORKING, NEUTRAL['right'])
@@ -344,7 +346,8 @@ def test_watchdog_works_before_the_first_heartbeat():
     assert t == pytest.approx(teleop.HEARTBEAT_TIMEOUT_S, abs=0.06)
     assert tp.heartbeat_age(t) == -1.0
     tp2 = teleop.Teleop('R', LIMITS)
-    tp2.on_robot(0.0, True, NEUTRAL)
+    tp2.on_robot(0.0, True)
+    tp2.on_robot_pose(0.0, NEUTRAL)
     tp2.on_joint_states(0.0, WORKING, NEUTRAL['right'])
     tp2.step(0.0)
     tp2.on_button(0.0, 3)
