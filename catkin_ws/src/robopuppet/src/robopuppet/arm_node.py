@@ -13,31 +13,53 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool, Empty, Float32, String, UInt8
 
 from robopuppet import baxter_description, codec, settings, teleop
+from robopuppet.periodic import Guard, Loop
 from robopuppet_msgs.msg import TeleopState
 
 ROBOT_TIMEOUT_S = 1.0        # Baxter is absent when /robot/state or joint states are older
 ENABLE_PERIOD_S = 1.0        # how often to ask an absent or disabled Baxter to enable
 STATE_PERIOD_S = 0.5         # teleop_state and /diagnostics at least this often
 GRIPPER_CALIBRATE_RETRY_S = 3.0
+MIN_COMMAND_RATE_HZ = 10.0   # Baxter drops a position command after 0.2 s; keep well inside it
+WATCHDOG_PERIOD_S = 0.05     # the watchdog thread checks the command loop this often
+# The command loop has failed when it has not completed a step for this many command periods.
+STALL_PERIODS = 10
 DIAG_LEVEL = {teleop.NO_ROBOT: DiagnosticStatus.WARN, teleop.CALIBRATING: DiagnosticStatus.OK,
               teleop.READY: DiagnosticStatus.OK, teleop.FOLLOWING: DiagnosticStatus.OK,
               teleop.FAULT: DiagnosticStatus.ERROR}
 
 
-def positive_param(name, default):
-    """Return a private parameter as a positive finite float.
+def positive_param(name, default, minimum=0.0):
+    """Return a private parameter as a finite float above `minimum` (at least it, if not 0).
 
     Raises:
-        ValueError: the parameter is not a positive finite number.
+        ValueError: the parameter is not such a number.
     """
     value = rospy.get_param(name, default)
     try:
         number = float(value)
     except (TypeError, ValueError):
         number = math.nan
-    if not (math.isfinite(number) and number > 0.0):
-        raise ValueError('%s must be a positive number, got %r' % (name, value))
+    if not (math.isfinite(number) and number > 0.0 and number >= minimum):
+        raise ValueError('%s must be a number of at least %g, got %r' % (name, minimum, value)
+                         if minimum else '%s must be a positive number, got %r' % (name, value))
     return number
+
+
+def joint_angles(msg):
+    """Return the puppet's 7 angles (rad) from a JointState, matched by name, or raise.
+
+    Raises:
+        ValueError: a name of joint_0..joint_6 is missing, or names and positions differ in
+            number (the message says which).
+    """
+    if len(msg.name) != len(msg.position):
+        raise ValueError('%d names but %d positions' % (len(msg.name), len(msg.position)))
+    position = dict(zip(msg.name, msg.position))
+    missing = [n for n in settings.JOINT_NAMES if n not in position]
+    if missing:
+        raise ValueError('no %s (names %s)' % (', '.join(missing), list(msg.name)[:10]))
+    return [float(position[n]) for n in settings.JOINT_NAMES]
 
 
 class ArmNode:
@@ -45,6 +67,9 @@ class ArmNode:
 
     A command is computed as soon as puppet joint states arrive (low latency) and at least at
     ~command_rate, the steady stream Baxter needs; no command goes out unless teleop allows it.
+    The command loop and a watchdog run on threads of their own (robopuppet.periodic): an
+    exception is logged, counted in /diagnostics and survived, and a command loop that stops
+    completing steps is a fault (following stops, Baxter is told to stay) found by the watchdog.
 
     ROS API:
       Subscribes: <ns>/joint_states (sensor_msgs/JointState), <ns>/joint_J/enc_stat
@@ -59,16 +84,19 @@ class ArmNode:
         <ns>/joint_J/setpoint (std_msgs/Float32), <ns>/teleop_state
         (robopuppet_msgs/TeleopState, latched), /diagnostics (diagnostic_msgs/DiagnosticArray).
       Parameters: ~arm_side ('L' or 'R', required; <ns> is /puppet/arm_<side>),
-        ~command_rate (Hz, 100), ~state_timeout (s, 0.4: the puppet is silent after this long
-        without joint states), ~heartbeat_timeout (s, 2.5), ~approach_speed (rad/s, 0.5: joint
-        speed while Baxter closes in on the puppet's pose when following starts).
+        ~command_rate (Hz, 100, at least 10), ~state_timeout (s, 0.4: the puppet is silent
+        after this long without joint states), ~heartbeat_timeout (s, 2.5), ~approach_speed
+        (rad/s, 0.5: joint speed while Baxter closes in on the puppet's pose when following
+        starts; each joint's URDF velocity limit caps it).
+      The puppet's joint_states are matched by name (joint_0..joint_6); a message without all
+      seven names is refused with a warning.
     """
 
     def __init__(self):
         side = rospy.get_param('~arm_side')
         self._ns = settings.namespace(side)
         self._name = 'arm_' + side
-        self._period_s = 1.0 / positive_param('~command_rate', 100.0)
+        self._period_s = 1.0 / positive_param('~command_rate', 100.0, MIN_COMMAND_RATE_HZ)
         description = baxter_description.load(baxter_description.urdf_path(
             rospkg.RosPack().get_path('robopuppet')))
         limits = {s: baxter_description.arm_limits(s, description) for s in teleop.SIDES}
@@ -80,13 +108,17 @@ class ArmNode:
             approach_speed_rad_s=positive_param('~approach_speed', 0.5),
             command_period_s=self._period_s)
         self._lock = threading.Lock()
+        self._guard = Guard(self._name, rospy.logerr)
         self._statuses = ['Disconnected'] * settings.NUM_JOINTS
+        self._refused_states = 0  # puppet joint_states without the seven joint names
         self._robot_enabled = False
         self._robot_state_t = self._robot_joints_t = None
         self._gripper_id = {s: 0 for s in teleop.SIDES}
         self._calibrate_sent_t = {s: -1e9 for s in teleop.SIDES}
+        self._gripper_calibrated = {s: False for s in teleop.SIDES}  # seen calibrated once
         self._gripper_sequence = 0
         self._last_command_t = self._last_enable_t = self._last_state_t = -1e9
+        self._last_step_t = time.monotonic()  # when _run last completed
         self._published_state = None
 
         self._pub_command = {s: rospy.Publisher('/robot/limb/%s/joint_command' % s, JointCommand,
@@ -123,7 +155,11 @@ class ArmNode:
                              self._on_gripper_properties, callback_args=s, queue_size=1)
             rospy.Subscriber(gripper + 'state', EndEffectorState, self._on_gripper_state,
                              callback_args=s, queue_size=1)
-        self._timer = rospy.Timer(rospy.Duration(self._period_s / 2), self._on_timer)
+        self._loops = [Loop(self._guard, 'command loop', self._period_s / 2, self._on_timer),
+                       Loop(self._guard, 'watchdog', WATCHDOG_PERIOD_S, self._watch)]
+        for loop in self._loops:
+            loop.start()
+        rospy.on_shutdown(lambda: [loop.stop() for loop in self._loops])
 
     # ---- puppet and robot input ----------------------------------------------------------
 
@@ -132,14 +168,21 @@ class ArmNode:
             self._statuses[joint] = msg.data
 
     def _on_joint_states(self, msg):
-        if len(msg.position) != settings.NUM_JOINTS:
-            rospy.logwarn_throttle(5, '%s: joint_states with %d positions ignored (want %d)',
-                                   self._name, len(msg.position), settings.NUM_JOINTS)
+        try:
+            angles = joint_angles(msg)
+        except ValueError as error:
+            self._refused_states += 1
+            rospy.logwarn_throttle(5, '%s: puppet joint_states refused (%d so far): %s',
+                                   self._name, self._refused_states, error)
             return
+        bad = [settings.JOINT_NAMES[j] for j, a in enumerate(angles) if not math.isfinite(a)]
+        if bad:
+            rospy.logwarn_throttle(5, '%s: puppet joint_states with non-finite %s: each such '
+                                   'joint keeps its last valid angle', self._name, ', '.join(bad))
         with self._lock:
             now = time.monotonic()
-            self._teleop.on_joint_states(now, list(self._statuses), list(msg.position))
-            self._run(now)  # act on fresh puppet data at once
+            self._teleop.on_joint_states(now, list(self._statuses), angles)
+            self._guard.call('step on joint states', self._step, now)  # act on fresh data now
 
     def _on_heartbeat(self, msg):
         with self._lock:
@@ -163,12 +206,21 @@ class ArmNode:
             self._robot_state_t = time.monotonic()
 
     def _on_robot_joints(self, msg):
+        now = time.monotonic()
         position = dict(zip(msg.name, msg.position))
+        velocity = dict(zip(msg.name, msg.velocity)) if len(msg.velocity) == len(msg.name) else {}
         pose = {s: [position[n] for n in names] for s, names in self._joint_names.items()
                 if all(n in position for n in names)}
+        speeds = {s: [velocity.get(n, 0.0) for n in names] for s, names in
+                  self._joint_names.items()}
+        # The measurement's age from its stamp when that is believable (same clock, not from
+        # the future nor older than the extrapolation may reach), else from now.
+        age_s = (rospy.Time.now() - msg.header.stamp).to_sec() if msg.header.stamp else 0.0
+        if not 0.0 <= age_s <= teleop.MAX_EXTRAPOLATION_S:
+            age_s = 0.0
         with self._lock:
-            self._robot_joints_t = time.monotonic()
-            self._teleop.on_robot_pose(self._robot_joints_t, pose)
+            self._robot_joints_t = now
+            self._teleop.on_robot_pose(now - age_s, pose, speeds)
 
     def _on_gripper_properties(self, msg, side):
         with self._lock:
@@ -177,9 +229,15 @@ class ArmNode:
     def _on_gripper_state(self, msg, side):
         with self._lock:
             # An electric gripper ignores 'go' until calibrated (as after power-up): calibrate
-            # it, as the Rethink SDK does, and ask again while it has not done so.
+            # it, as the Rethink SDK does, and ask again while it has not done so. Calibrating
+            # opens the gripper, so never one that reported calibrated since this node started
+            # (a garbage or glitched state must not drop what it holds), nor one that follows
+            # the puppet closed.
             now = time.monotonic()
-            if (msg.calibrated != EndEffectorState.STATE_TRUE and msg.id
+            if msg.calibrated == EndEffectorState.STATE_TRUE:
+                self._gripper_calibrated[side] = True
+            holding = self._teleop.following[side] and self._teleop.gripper_closed
+            if (not self._gripper_calibrated[side] and not holding and msg.id
                     and now - self._calibrate_sent_t[side] > GRIPPER_CALIBRATE_RETRY_S):
                 self._calibrate_sent_t[side] = now
                 self._gripper_id[side] = msg.id
@@ -188,15 +246,41 @@ class ArmNode:
 
     # ---- output --------------------------------------------------------------------------
 
-    def _on_timer(self, event):
+    def _on_timer(self):
         with self._lock:
             now = time.monotonic()
             if now - self._last_command_t >= self._period_s * 0.9:
-                self._run(now)
+                self._step(now)
+
+    def _watch(self):
+        """Fault the teleop when the command loop has not completed a step for a while."""
+        if not self._lock.acquire(timeout=STALL_PERIODS * self._period_s):
+            raise RuntimeError('the command loop holds its lock for over %.2f s'
+                               % (STALL_PERIODS * self._period_s))
+        try:
+            now = time.monotonic()
+            stalled_s = now - self._last_step_t
+            if stalled_s > STALL_PERIODS * self._period_s:
+                why = 'no step completed for %.2f s; last error: %s' % (
+                    stalled_s, self._guard.last_error or 'none')
+                rospy.logerr_throttle(5, '%s: command loop failed: %s', self._name, why)
+                self._teleop.on_controller_failed(now, why)
+                self._step(now)
+        finally:
+            self._lock.release()
 
     def _robot_present(self, now):
         return all(t is not None and now - t < ROBOT_TIMEOUT_S
                    for t in (self._robot_state_t, self._robot_joints_t))
+
+    def _step(self, now):
+        """Run one step; a step that raises is a fault of the controller (it no longer knows
+        what it commanded), reported at the next step. Call with the lock held."""
+        try:
+            self._run(now)
+        except Exception as error:
+            self._teleop.on_controller_failed(now, '%s: %s' % (type(error).__name__, error))
+            raise
 
     def _run(self, now):
         """Step the teleop state machine and carry out its decisions. Call with the lock held."""
@@ -213,6 +297,7 @@ class ArmNode:
         for action in result.actions:
             self._carry_out(action)
         self._report(now)
+        self._last_step_t = now
 
     def _carry_out(self, action):
         if isinstance(action, teleop.SetOpmode):
@@ -248,7 +333,9 @@ class ArmNode:
             ('state', tp.state), ('follow_left', tp.following['left']),
             ('follow_right', tp.following['right']), ('opmode', tp.opmode),
             ('heartbeat_age_s', '%.2f' % tp.heartbeat_age(now)),
-            ('ignored_angles', tp.ignored_angles))]
+            ('ignored_angles', tp.ignored_angles), ('ignored_robot_poses', tp.ignored_poses),
+            ('refused_joint_states', self._refused_states),
+            ('callback_errors', self._guard.errors), ('last_error', self._guard.last_error))]
         diag = DiagnosticArray(status=[DiagnosticStatus(
             level=DIAG_LEVEL[tp.state], name='%s: teleoperation' % self._name,
             message='%s: %s' % (tp.state, tp.detail), hardware_id=self._ns, values=values)])

@@ -4,13 +4,16 @@ The arm node feeds it puppet data (joint states, heartbeats, buttons, the end-pi
 Baxter's state, calls step(t) at its command rate, and carries out what step returns: joint
 positions for each following Baxter arm and actions (opmode, puppet setpoints, grippers).
 
-Safety: Baxter follows nothing until all seven puppet encoders report Working; every command is
-clamped to Baxter's joint limits and moves at a bounded speed (a slow approach when following
-starts far from the puppet, then at most the joint's velocity limit, see
-joint_motion.SpeedBudget); non-finite angles are ignored; when the puppet's joint states or
-heartbeat stop, commands stop at once (Baxter then holds by its own command timeout) and following
-resumes only after fresh data and a new press; a Baxter arm that the other puppet drives is not
-taken, and if both puppets claim one at once, both let it go.
+Safety: Baxter follows nothing until all seven puppet encoders report Working and every joint
+has sent a valid angle; every command is clamped to Baxter's joint limits and moves at a bounded
+speed (a slow approach when following starts far from the puppet, then at most the joint's
+velocity limit, see joint_motion.SpeedBudget; no speed parameter can exceed the URDF's limit);
+non-finite angles are ignored, and a Baxter pose outside its joint limits is not believed; when
+an arm stops following (the puppet's joint states or heartbeat stop, a joint loses calibration,
+a press, the arm controller itself fails) the arm is commanded to stay where Baxter measures it
+at once, so it does not coast on to a stale target, and following resumes only after fresh data
+and a new press; a Baxter arm that the other puppet drives is not taken, and if both puppets
+claim one at once, both let it go.
 """
 import collections
 import math
@@ -27,7 +30,12 @@ STATE_TIMEOUT_S = 0.4      # the puppet is silent after this long without joint 
                            # 10 Hz): within the 0.5 s a stop must take, yet not tripped by a stall
 HEARTBEAT_TIMEOUT_S = 2.5  # ... or without a heartbeat (the firmware beats at 1 Hz)
 CLAIM_EXPIRY_S = 1.5       # the other puppet's claim on an arm lasts this long unless renewed
-HOLD_RESENDS, HOLD_RESEND_PERIOD_S = 4, 0.1  # entering hold sends the setpoints 4 more times
+# Baxter reports its joints slightly past the URDF limits at a limit; a pose further out than
+# this is not Baxter's (garbage on /robot/joint_states) and is ignored.
+ROBOT_POSE_MARGIN_RAD = 0.1
+# Where Baxter is now, for a stop, is its newest measured pose moved on by its measured velocity
+# for the age of the measurement, but never by more than this much time.
+MAX_EXTRAPOLATION_S = 0.05
 
 # (state, event) -> next state. Events not listed for a state leave it unchanged.
 TRANSITIONS = {
@@ -46,6 +54,9 @@ TRANSITIONS = {
     (FAULT, 'robot_lost'): NO_ROBOT,
     (FAULT, 'fresh'): CALIBRATING,
 }
+# From any state but these, the arm controller's own failure is a fault.
+for _state in (CALIBRATING, READY, FOLLOWING):
+    TRANSITIONS[_state, 'controller_failed'] = FAULT
 # Following is switched off on entering these states.
 STOP_FOLLOWING = (NO_ROBOT, CALIBRATING, READY, FAULT)
 
@@ -57,7 +68,9 @@ Grip = collections.namedtuple('Grip', 'side close')
 Grip.__doc__ = "Close (close=True) or open Baxter's gripper on `side`."
 Step = collections.namedtuple('Step', 'commands actions')
 Step.__doc__ = """What to do now: commands {side: 7 joint positions rad} for the following
-arms (empty when nothing may move), actions a list of SetOpmode, SetSetpoints and Grip."""
+arms, and for an arm that has just stopped following its measured pose (stay there); empty when
+nothing may move. actions: a list of SetOpmode, SetSetpoints and Grip, in the order to carry
+them out."""
 
 
 class Teleop:
@@ -69,7 +82,8 @@ class Teleop:
             velocity (rad/s), in puppet joint order (see baxter_description.arm_limits).
         state_timeout_s: the puppet is silent when no joint states came for this long.
         heartbeat_timeout_s: ... or no heartbeat for this long (the firmware beats at 1 Hz).
-        approach_speed_rad_s: joint speed while a following arm closes in on the puppet's pose.
+        approach_speed_rad_s: joint speed while a following arm closes in on the puppet's pose
+            (capped per joint by the joint's velocity limit).
         track_tolerance_rad: the approach ends when every joint is this close to the target.
         command_period_s: the nominal time between commands; the speed budget holds this much
             motion, so one command may carry speed x command_period_s at once.
@@ -93,7 +107,7 @@ class Teleop:
         self.following = {side: False for side in SIDES}
         self.tracking = {side: False for side in SIDES}  # False while approaching
         self.gripper_closed = False
-        self._angles = None        # newest finite puppet angles (rad)
+        self._angles = None        # newest finite puppet angle per joint (rad), None: never
         self._statuses = []        # newest encoder statuses
         self._state_t = None       # time of the newest joint states
         self._first_state_t = None
@@ -101,21 +115,27 @@ class Teleop:
         self._fault_t = None
         self._robot_ok = False
         self._robot_pose = {}      # side -> 7 angles (rad)
+        self._robot_motion = {}    # side -> (measurement time s, 7 velocities rad/s)
         self._motion = {}          # side -> SpeedBudget holding the last command
         self._claim_t = {side: None for side in SIDES}  # when the other puppet last claimed
-        self._hold_resend = None   # (setpoints, next time, sends left) after entering hold
         self._button = 0
         self._pressed = []         # button presses not yet acted on
         self._grip_reading = None
         self._last_step_t = None
+        self._failure = None       # why the arm controller failed, until the next step
         self.ignored_angles = 0    # non-finite angles dropped so far
+        self.ignored_poses = 0     # Baxter arm poses not believed (non-finite, out of limits)
 
     # ---- inputs --------------------------------------------------------------------------
 
     def on_joint_states(self, t, statuses, angles_rad):
-        """Take one set of puppet joint states: 7 status strings and 7 angles (rad)."""
+        """Take one set of puppet joint states: 7 status strings and 7 angles (rad).
+
+        A non-finite angle is ignored: the joint keeps its last valid angle, and a joint that
+        never sent one keeps Baxter from following (it counts as not calibrated).
+        """
         if self._angles is None:
-            self._angles = [0.0] * len(angles_rad)
+            self._angles = [None] * len(angles_rad)
         for j, angle in enumerate(angles_rad):
             if math.isfinite(angle):
                 self._angles[j] = angle
@@ -150,13 +170,33 @@ class Teleop:
         """Take whether Baxter is present and enabled."""
         self._robot_ok = enabled
 
-    def on_robot_pose(self, t, pose):
-        """Take {side: 7 joint angles rad} of Baxter's arms.
+    def on_robot_pose(self, t, pose, velocities=None):
+        """Take {side: 7 joint angles rad} of Baxter's arms, measured at time t.
 
-        An arm pose with a non-finite angle is ignored (the previous pose stays).
+        An arm pose with a non-finite angle, or an angle further than ROBOT_POSE_MARGIN_RAD
+        outside the joint's limits, is ignored and counted (the previous pose stays): such a
+        value never becomes a puppet setpoint or a command. velocities ({side: 7 rad/s}, where
+        known) tell where the arm is a little later; one that is not finite or beyond the
+        joint's velocity limit counts as 0.
         """
-        self._robot_pose.update((side, list(angles)) for side, angles in pose.items()
-                                if all_finite(angles))
+        velocities = velocities or {}
+        for side, angles in pose.items():
+            limits = self.limits[side]
+            if all_finite(angles) and all(
+                    lim.lower - ROBOT_POSE_MARGIN_RAD <= a <= lim.upper + ROBOT_POSE_MARGIN_RAD
+                    for a, lim in zip(angles, limits)):
+                self._robot_pose[side] = list(angles)
+                speeds = velocities.get(side) or [0.0] * len(angles)
+                self._robot_motion[side] = (t, [
+                    v if math.isfinite(v) and abs(v) <= lim.velocity else 0.0
+                    for v, lim in zip(speeds, limits)])
+            else:
+                self.ignored_poses += 1
+
+    def on_controller_failed(self, t, why):
+        """The arm controller itself failed (its command loop stalls or raises): stop following
+        as on a silent puppet; following resumes only after a new press."""
+        self._failure = why
 
     # ---- decisions -----------------------------------------------------------------------
 
@@ -197,6 +237,10 @@ class Teleop:
     def _events(self, t):
         """Yield (event, detail) for what changed since the last step."""
         silent = self._silent(t)
+        if self._failure is not None:
+            yield 'controller_failed', 'the arm controller failed (%s); press 2 or 3 to follow ' \
+                'again' % self._failure
+            self._failure = None
         if not self._robot_ok:
             yield 'robot_lost', 'Baxter is absent or not enabled'
         else:
@@ -211,6 +255,8 @@ class Teleop:
             for joint, status in enumerate(self._statuses):
                 if status != 'Working':
                     waiting.setdefault(status, []).append(str(joint))
+                elif self._angles[joint] is None:
+                    waiting.setdefault('with no valid angle yet', []).append(str(joint))
             if waiting:
                 yield 'uncalibrated', '; '.join(
                     'joint%s %s %s' % ('s' if len(joints) > 1 else '', ', '.join(joints), status)
@@ -231,31 +277,18 @@ class Teleop:
         self._pressed = []
 
     def _toggle_hold(self, t, actions):
-        self._hold_resend = None
         if self.opmode == LIMP:
             pose = self._robot_pose.get(self.own_side)
             if pose is None:
                 return
             self.opmode = HOLD
+            # The firmware holds the setpoints it has (0 rad after limp): the puppet's setpoints
+            # go first, then hold, so that the puppet moves to the robot and nowhere else.
+            actions.append(SetSetpoints(list(pose)))
             actions.append(SetOpmode(HOLD))
-            actions.append(SetSetpoints(list(pose)))  # the puppet moves to the robot
-            # Opmode and setpoints travel on separate topics: should the setpoints reach the
-            # firmware before the opmode, entering hold latches the current angles over them.
-            # Sending them again shortly after makes the puppet go to the robot either way.
-            self._hold_resend = (list(pose), t + HOLD_RESEND_PERIOD_S, HOLD_RESENDS)
         else:
             self.opmode = LIMP
             actions.append(SetOpmode(LIMP))
-
-    def _resend_hold_setpoints(self, t, actions):
-        if self._hold_resend is None:
-            return
-        pose, next_t, left = self._hold_resend
-        if self.opmode != HOLD or left == 0:
-            self._hold_resend = None
-        elif t >= next_t:
-            actions.append(SetSetpoints(list(pose)))
-            self._hold_resend = (pose, t + HOLD_RESEND_PERIOD_S, left - 1)
 
     def _toggle_follow(self, side, t):
         if self.following[side]:
@@ -305,19 +338,39 @@ class Teleop:
                 continue
             angles = self._angles if side == self.own_side else mirror(self._angles)
             target = clamp(angles, self.limits[side])
-            if self.tracking[side]:
-                speeds = [lim.velocity for lim in self.limits[side]]
-            else:
-                speeds = [self.approach_speed_rad_s] * len(target)
+            speeds = [lim.velocity if self.tracking[side]
+                      else min(self.approach_speed_rad_s, lim.velocity)
+                      for lim in self.limits[side]]
             command = self._motion[side].move(target, speeds, t)
             if max(abs(c - g) for c, g in zip(command, target)) <= self.track_tolerance_rad:
                 self.tracking[side] = True
             commands[side] = command
         return commands
 
+    def _stay_commands(self, t, was_following):
+        """Return {side: where Baxter's arm is now} for each arm that has just stopped following.
+
+        Baxter in position mode goes on to the last command it got; commanding where it is
+        stops it at once instead of after its command timeout. Where it is now: the measured
+        pose moved on by the measured velocity for the measurement's age (at most
+        MAX_EXTRAPOLATION_S), since the arm moved on while the measurement travelled. Not while
+        Baxter is absent or disabled: its pose may be stale then.
+        """
+        if not self._robot_ok:
+            return {}
+        commands = {}
+        for side in SIDES:
+            if was_following[side] and not self.following[side] and side in self._robot_pose:
+                measured_t, speeds = self._robot_motion[side]
+                age_s = min(max(t - measured_t, 0.0), MAX_EXTRAPOLATION_S)
+                commands[side] = clamp([a + v * age_s for a, v in
+                                        zip(self._robot_pose[side], speeds)], self.limits[side])
+        return commands
+
     def step(self, t):
         """Advance to time t (s) and return the Step to carry out now."""
         self._last_step_t = t
+        was_following = dict(self.following)
         for event, detail in self._events(t):
             self._fire(event, detail)
         actions = []
@@ -327,7 +380,7 @@ class Teleop:
             actions.append(SetOpmode(LIMP))
         self._drop_contested_arms(t)
         self._act_on_presses(t, actions)
-        self._resend_hold_setpoints(t, actions)
         self._grip_actions(actions)
         commands = self._commands_now(t) if self.state == FOLLOWING else {}
+        commands.update(self._stay_commands(t, was_following))
         return Step(commands, actions)

@@ -3,10 +3,13 @@
 Plays the operator through the simulated puppet's operator topics (/puppet_sim/arm_X/...) and
 records what the puppet reports and what Baxter is told and does, with reception times.
 """
+import contextlib
 import math
 import threading
 import time
+import xmlrpc.client
 
+import rosgraph
 import rospy
 from baxter_core_msgs.msg import EndEffectorState, JointCommand
 from sensor_msgs.msg import JointState
@@ -129,3 +132,36 @@ def calibrate(puppet, pose):
     puppet.hand(pose)
     wait_for(lambda: puppet.statuses == ['Working'] * 7, 15,
              'all joints of puppet %s Working (now %s)' % (puppet.side, puppet.statuses))
+
+
+def node_pid(name):
+    """Return the process id of a running ROS node, asked through its own XML-RPC API."""
+    uri = rosgraph.Master(rospy.get_name()).lookupNode(name)
+    code, message, pid = xmlrpc.client.ServerProxy(uri).getPid(rospy.get_name())
+    if code != 1:
+        raise AssertionError('cannot get the pid of %s: %s' % (name, message))
+    return pid
+
+
+@contextlib.contextmanager
+def swinging_hand(puppet, pose, joint=3, amplitude_rad=0.5, rate_rad_s=2.5):
+    """Swing one joint of the operator's hand around pose (a sine at up to amplitude x rate
+    rad/s, faster than Baxter's default mode-1 speed on e1) until the block ends."""
+    stop = threading.Event()
+
+    def swing():
+        t0 = time.monotonic()
+        while not stop.is_set():
+            moved = list(pose)
+            moved[joint] = pose[joint] + amplitude_rad * math.sin(
+                rate_rad_s * (time.monotonic() - t0))
+            puppet.hand(moved)
+            time.sleep(0.02)
+
+    mover = threading.Thread(target=swing, daemon=True)
+    mover.start()
+    try:
+        yield
+    finally:
+        stop.set()
+        mover.join()

@@ -44,6 +44,20 @@ def test_hold_latches_angles_as_setpoints_and_limp_ends_them():
     assert setpoints[2][0] == 4.0 and math.isnan(setpoints[2][1])
 
 
+def test_hold_keeps_setpoints_sent_before_it_since_the_last_limp():
+    arm = state.ArmState()
+    arm.on_opmode('limp', 0.0)
+    arm.on_angle(2, 0.5, 1.0)
+    arm.on_angle(3, -0.4, 1.0)
+    arm.on_setpoint(2, 1.2, 1.5)  # arm_X sends Baxter's pose, then hold
+    arm.on_opmode('hold', 2.0)
+    joints = arm.snapshot().joints
+    assert joints[2].setpoint_rad == 1.2 and joints[3].setpoint_rad == -0.4
+    arm.on_opmode('limp', 3.0)
+    arm.on_opmode('hold', 4.0)  # no setpoint since that limp: the angle again
+    assert arm.snapshot().joints[2].setpoint_rad == 0.5
+
+
 def test_bad_input_is_refused_and_changes_nothing():
     arm = state.ArmState()
     arm.on_opmode('limp', 0.0)

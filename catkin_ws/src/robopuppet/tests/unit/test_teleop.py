@@ -119,7 +119,8 @@ def test_hold_only_when_calibrated_and_with_robot_pose_as_setpoints():
     pose = {'left': [0.0] * 7, 'right': [0.3, -0.4, 0.5, 1.0, -0.2, 0.9, 0.1]}
     rig.robot(pose=pose)
     actions = rig.press(1).actions
-    assert actions == [teleop.SetOpmode('hold'), teleop.SetSetpoints(pose['right'])]
+    # Setpoints first: the firmware holds whatever setpoints it has when hold arrives.
+    assert actions == [teleop.SetSetpoints(pose['right']), teleop.SetOpmode('hold')]
     assert rig.press(1).actions == [teleop.SetOpmode('limp')]
     calibrating = enter(CALIBRATING)
     assert calibrating.press(1).actions == []
@@ -130,7 +131,7 @@ def test_left_puppet_holds_to_left_arm():
     rig = Rig('L')
     rig.robot(pose={'left': [0.5] * 7, 'right': [-0.5] * 7})
     rig.step()
-    assert rig.press(1).actions[1] == teleop.SetSetpoints([0.5] * 7)
+    assert rig.press(1).actions[0] == teleop.SetSetpoints([0.5] * 7)
 
 
 def test_button_acts_once_per_press_however_long_it_is_held():
@@ -233,11 +234,14 @@ def test_watchdog_stops_commands_when_joint_states_stop():
     quiet_since = rig.t
     while True:
         step = rig.step(0.01, feed=False)
-        if not step.commands:
+        if rig.tp.state == FAULT:
             break
     assert rig.t - quiet_since == pytest.approx(teleop.STATE_TIMEOUT_S, abs=0.011)
-    assert rig.tp.state == FAULT and 'joint states' in rig.tp.detail
+    assert 'joint states' in rig.tp.detail
     assert rig.tp.following == {'left': False, 'right': False}
+    # Baxter is told to stay where it is measured, once, then nothing more.
+    assert step.commands == {'right': pytest.approx(NEUTRAL['right'])}
+    assert not rig.step(0.01, feed=False).commands
 
 
 def test_watchdog_catches_a_missing_heartbeat_and_needs_a_new_press():
@@ -316,8 +320,9 @@ def test_both_puppets_claiming_an_arm_at_once_both_let_go():
     rig.press(3)
     assert rig.step().commands
     rig.tp.on_other_puppet(rig.t, False, True)  # the other pressed 3 at about the same time
-    assert rig.step().commands == {}
+    assert rig.step().commands == {'right': pytest.approx(NEUTRAL['right'])}  # stay, once
     assert rig.tp.state == READY and 'both let go' in rig.tp.detail
+    assert rig.step().commands == {}
 
 
 def test_a_claim_that_is_not_renewed_expires():
@@ -352,8 +357,10 @@ def test_watchdog_works_before_the_first_heartbeat():
     tp2.step(0.0)
     tp2.on_button(0.0, 3)
     assert tp2.step(0.01).commands
-    assert tp2.step(0.01 + teleop.STATE_TIMEOUT_S + 0.01).commands == {}
+    assert tp2.step(0.01 + teleop.STATE_TIMEOUT_S + 0.01).commands == {
+        'right': pytest.approx(NEUTRAL['right'])}  # stay where Baxter is
     assert tp2.state == FAULT
+    assert tp2.step(0.03 + teleop.STATE_TIMEOUT_S).commands == {}
 
 
 def test_speed_stays_bounded_however_commands_are_spaced():
@@ -378,12 +385,93 @@ def test_nan_from_baxter_is_ignored():
     assert command == pytest.approx(NEUTRAL['right'], abs=0.01)
 
 
-def test_entering_hold_sends_the_setpoints_again_for_half_a_second():
+def test_entering_hold_sends_the_setpoints_once_before_the_opmode():
     rig = enter(READY)
-    setpoints = []
+    actions = []
     rig.tp.on_button(rig.t, 1)
     for _ in range(100):
-        setpoints += [a for a in rig.step().actions if isinstance(a, teleop.SetSetpoints)]
+        actions += rig.step().actions
         rig.tp.on_button(rig.t, 0)
-    assert len(setpoints) == 1 + teleop.HOLD_RESENDS
-    assert all(a.angles == NEUTRAL['right'] for a in setpoints)
+    assert actions == [teleop.SetSetpoints(NEUTRAL['right']), teleop.SetOpmode('hold')]
+
+
+def test_a_joint_never_seen_valid_keeps_baxter_from_following():
+    rig = Rig()
+    rig.robot(pose={'left': NEUTRAL['left'], 'right': [0.0, 0.0, 0.0, 0.75, 0.0, 0.0, 0.0]})
+    first = list(HAND)
+    first[3] = math.nan  # e1 never valid: it must not become a 0.0 target
+    rig.angles = first
+    rig.step()
+    assert rig.tp.state == CALIBRATING
+    assert rig.tp.detail == 'joint 3 with no valid angle yet'
+    assert not rig.press(3).commands and rig.tp.state == CALIBRATING
+    rig.angles = list(HAND)
+    rig.step()
+    assert rig.tp.state == READY
+    rig.angles = first  # NaN again later: e1 keeps its last valid angle
+    rig.press(3)
+    command = run_until_tracking(rig, 'right')
+    assert command[3] == pytest.approx(HAND[3], abs=0.03)
+
+
+def test_approach_speed_is_capped_by_the_velocity_limits():
+    rig = Rig(approach_speed_rad_s=100.0)
+    rig.robot()
+    rig.step()
+    rig.angles = [lim.upper - 0.05 for lim in LIMITS['right']]  # far from neutral
+    previous = NEUTRAL['right']
+    rig.press(3)
+    for _ in range(20):
+        command = rig.step().commands['right']
+        for c, p, lim in zip(command, previous, LIMITS['right']):
+            assert abs(c - p) <= lim.velocity * 0.01 * 2 + 1e-9  # budget: one period + dt
+        previous = command
+
+
+def test_a_robot_pose_out_of_its_limits_is_not_believed():
+    rig = enter(READY)
+    rig.robot(pose={'left': NEUTRAL['left'], 'right': [1e39] * 7})
+    rig.robot(pose={'left': NEUTRAL['left'], 'right': [0.0, 0.0, 0.0, 4.0, 0.0, 0.0, 0.0]})
+    assert rig.tp.ignored_poses == 2
+    actions = rig.press(1).actions
+    assert actions[0] == teleop.SetSetpoints(NEUTRAL['right'])  # the last believable pose
+
+
+def test_stopping_to_follow_tells_baxter_to_stay_where_it_is():
+    for stop in ('press_follow', 'uncalibrated', 'silent'):
+        rig = enter(FOLLOWING)
+        rig.angles = list(HAND)
+        run_until_tracking(rig, 'right')
+        where = [a + 0.01 for a in HAND]  # Baxter lags behind its command
+        rig.robot(pose={'left': NEUTRAL['left'], 'right': where})
+        step = apply(rig, stop)
+        assert rig.tp.state != FOLLOWING, stop
+        assert step.commands == {'right': pytest.approx(where)}, stop
+        assert not apply(rig, 'calibrated').commands, stop
+
+
+def test_a_failed_controller_faults_and_needs_a_new_press():
+    rig = enter(FOLLOWING)
+    rig.tp.on_controller_failed(rig.t, 'OverflowError: too big')
+    step = rig.step()
+    assert rig.tp.state == FAULT and 'OverflowError' in rig.tp.detail
+    assert step.commands == {'right': pytest.approx(NEUTRAL['right'])}
+    for _ in range(10):
+        assert not rig.step().commands  # puppet data is fresh, yet nothing follows
+    assert rig.tp.state == READY
+    assert rig.press(3).commands
+
+
+def test_a_stop_commands_where_the_moving_arm_is_now_not_where_it_was_measured():
+    moving = [0.2, 0.0, 0.0, -0.3, 0.0, 0.0, 0.0]  # rad/s
+    garbage = [math.nan, 99.0, 0.0, 0.0, 0.0, 0.0, 0.0]  # not finite, beyond the limit
+    for speeds, age_s, expected_s in ((moving, 0.02, 0.02), (moving, 0.5, 0.05),
+                                      (garbage, 0.02, 0.0)):
+        rig = enter(FOLLOWING)
+        rig.tp.on_robot_pose(rig.t, NEUTRAL, {'right': speeds})
+        rig.t += age_s
+        rig.feed(statuses=ONE_UNCALIBRATED)  # a joint lost its calibration: stop
+        step = rig.tp.step(rig.t)
+        expected = [a + (v if abs(v) < 1.0 else 0.0) * expected_s
+                    for a, v in zip(NEUTRAL['right'], speeds)]
+        assert step.commands == {'right': pytest.approx(expected)}, (speeds, age_s)

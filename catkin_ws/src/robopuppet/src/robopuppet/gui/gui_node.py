@@ -5,6 +5,7 @@ import rospy
 from PyQt5 import QtCore, QtWidgets
 
 from robopuppet import settings
+from robopuppet.periodic import Guard
 from robopuppet.gui.puppet_client import PuppetClient, SimPuppetClient
 from robopuppet.gui.state import ArmState
 from robopuppet.gui.window import Window
@@ -71,7 +72,8 @@ def run(app, window, frame_rate_hz):
     bridge.shutdown.connect(window.close, QtCore.Qt.QueuedConnection)
     rospy.on_shutdown(bridge.shutdown.emit)
     timer = QtCore.QTimer()
-    timer.timeout.connect(window.frame)
+    guard = Guard(rospy.get_name(), rospy.logerr)  # a failing frame must not end the GUI
+    timer.timeout.connect(lambda: guard.call('frame', window.frame))
     # The timer also hands control to Python regularly, so rospy's Ctrl-C handler runs.
     timer.start(int(round(1000.0 / frame_rate_hz)))
     if not rospy.is_shutdown():

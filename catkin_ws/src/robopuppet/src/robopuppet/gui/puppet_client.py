@@ -3,6 +3,8 @@
 No Qt here: callbacks run on rospy's threads and only touch the locked ArmState; the GUI thread
 reads it once per frame.
 """
+import math
+
 import rospy
 from diagnostic_msgs.msg import DiagnosticArray
 from sensor_msgs.msg import JointState
@@ -80,9 +82,17 @@ class PuppetClient:
         return self._clock()
 
     def set_opmode(self, opmode):
-        """Publish the opmode, 'limp' or 'hold'."""
+        """Publish the opmode, 'limp' or 'hold'.
+
+        Hold first sends each joint's current angle as its setpoint: the firmware holds the
+        setpoints it has (0 rad after limp), so a bare hold would drive the puppet to 0 rad.
+        """
         if opmode not in codec.OPMODES:
             raise ValueError('opmode must be one of %s, got %r' % (codec.OPMODES, opmode))
+        if opmode == 'hold':
+            for joint, values in enumerate(self.state.snapshot().joints):
+                if math.isfinite(values.angle_rad):
+                    self.set_setpoint(joint, values.angle_rad)
         self._opmode_pub.publish(String(opmode))
 
     def set_setpoint(self, joint, angle_rad):

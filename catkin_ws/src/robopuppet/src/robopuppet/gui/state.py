@@ -37,6 +37,7 @@ class ArmState:
         self._angle = [math.nan] * settings.NUM_JOINTS
         self._voltage = [math.nan] * settings.NUM_JOINTS
         self._setpoint = [math.nan] * settings.NUM_JOINTS
+        self._setpoint_sent = [False] * settings.NUM_JOINTS  # since the last limp
         self._grippers = [math.nan] * NUM_GRIPPERS
         self._button = None
         self._last_button = 0
@@ -76,11 +77,13 @@ class ArmState:
         _check_joint(joint)
         with self._lock:
             self._set_setpoint(joint, angle_rad, now_s)
+            self._setpoint_sent[joint] = True
 
     def on_opmode(self, opmode, now_s):
         """Record the opmode ('limp' or 'hold'); other text is ignored with ValueError.
 
-        Entering hold latches every joint's last angle as its setpoint, as the firmware does;
+        Entering hold shows each joint's last angle as its setpoint unless a setpoint was sent
+        to it since the last limp (the serial node fills in the current angles just so);
         leaving it ends the setpoint curves (NaN), so plots show setpoints only while holding.
         """
         if opmode not in OPMODES:
@@ -90,8 +93,11 @@ class ArmState:
                 return
             self._opmode = opmode
             for joint in settings.JOINTS:
-                latched = self._angle[joint] if opmode == 'hold' else math.nan
-                self._set_setpoint(joint, latched, now_s)
+                if opmode == 'limp':
+                    self._set_setpoint(joint, math.nan, now_s)
+                    self._setpoint_sent[joint] = False
+                elif not self._setpoint_sent[joint]:
+                    self._set_setpoint(joint, self._angle[joint], now_s)
 
     def on_gripper(self, gripper, reading):
         """Record a gripper reading (0-1)."""
