@@ -1,48 +1,26 @@
 """Kinematic motion model of Baxter for the stand-in: enable state, both arms, both grippers.
 
 Pure: every method that changes with time takes `now_s` (seconds, any monotonic origin); nothing
-here reads a clock or imports rospy. Joint names and limits come from baxter_description.
+here reads a clock or imports rospy. Joint names and limits come from baxter_description; the
+gripper is robopuppet.baxter_gripper, the refusals robopuppet.baxter_refusals.
 """
-import json
 import math
 
 from robopuppet import baxter_description as bd
+from robopuppet.baxter_gripper import GRIPPER_OPEN, Gripper, approach
+from robopuppet.baxter_refusals import CommandError, NotEnabledError, brief, finite
+
+__all__ = ['BaxterModel', 'Arm', 'CommandError', 'NotEnabledError', 'GRIPPER_OPEN',
+           'POSITION_MODE', 'RAW_POSITION_MODE']
 
 POSITION_MODE = 1       # baxter_core_msgs/JointCommand.POSITION_MODE: smoothed, speed-ratio scaled
 RAW_POSITION_MODE = 4   # baxter_core_msgs/JointCommand.RAW_POSITION_MODE: at the velocity limit
+# The modes Baxter has but the stand-in refuses, by name (any other number: 'unknown mode').
+REFUSED_MODES = {2: 'velocity mode', 3: 'torque mode'}
 DEFAULT_SPEED_RATIO = 0.3
 DEFAULT_COMMAND_TIMEOUT_S = 0.2
 # Mode 1 approaches its target as a first-order lag with this time constant (capped in speed).
 SMOOTHING_TIME_S = 0.05
-
-GRIPPER_OPEN = 100.0    # % of finger travel; 0 is closed
-# Electric gripper parameters of the `configure` command (% of maximum), with the SDK's defaults.
-GRIPPER_DEFAULTS = {'velocity': 50.0, 'moving_force': 40.0, 'holding_force': 30.0,
-                    'dead_zone': 5.0}
-
-
-class CommandError(ValueError):
-    """A command is malformed or not allowed now; it was dropped."""
-
-
-class NotEnabledError(CommandError):
-    """A motion command arrived while the robot is disabled; it was dropped."""
-
-
-def _finite(value, what):
-    try:
-        value = float(value)
-    except (TypeError, ValueError) as error:
-        raise CommandError('%s must be a number, got %r' % (what, value)) from error
-    if not math.isfinite(value):
-        raise CommandError('%s must be finite, got %r' % (what, value))
-    return value
-
-
-def _approach(position, target, max_step, smoothing_factor):
-    """Return the next position: a fraction of the way to target, at most max_step."""
-    step = (target - position) * smoothing_factor
-    return position + max(-max_step, min(max_step, step))
 
 
 class Arm:
@@ -71,25 +49,42 @@ class Arm:
     def command(self, mode, names, values, now_s):
         """Take new targets; names may be any subset of this arm's joints, in any order.
 
-        Targets outside a joint's limits are clamped to the limit.
+        Targets outside a joint's limits are clamped to the limit. A command that is refused
+        changes nothing: it neither restarts the command timeout nor switches the mode. So an
+        empty command (no names), which a real Baxter ignores, does not keep the arm moving.
 
         Raises:
-            CommandError: unknown mode or joint name, length mismatch, non-finite value.
+            CommandError: velocity, torque or unknown mode, length mismatch, no joints, more
+                joints than the arm has, an unknown (or the other arm's) or repeated joint name,
+                or a non-finite value.
         """
         if mode not in (POSITION_MODE, RAW_POSITION_MODE):
-            raise CommandError('joint command mode %r refused: only position (1) and raw '
-                               'position (4) are supported' % (mode,))
+            raise CommandError('%s arm: joint command mode %s refused: only position (1) and raw '
+                               'position (4) are supported' % (self.side, brief(mode)),
+                               REFUSED_MODES.get(mode, 'unknown mode'))
         if len(names) != len(values):
-            raise CommandError('joint command has %d names but %d values'
-                               % (len(names), len(values)))
+            raise CommandError('%s arm: joint command has %d names but %d values'
+                               % (self.side, len(names), len(values)), 'length mismatch')
+        if not names:
+            raise CommandError('%s arm: empty joint command ignored (no joints): it does not '
+                               'restart the command timeout' % self.side, 'empty')
+        if len(names) > len(self.limits):
+            raise CommandError('%s arm: joint command names %d joints, the arm has %d'
+                               % (self.side, len(names), len(self.limits)), 'too many joints')
         unknown = [n for n in names if n not in self.limits]
         if unknown:
-            raise CommandError('joint command names unknown to the %s arm: %s'
-                               % (self.side, ', '.join(map(str, unknown))))
+            raise CommandError('%s arm: joint command names unknown to this arm: %s'
+                               % (self.side, brief(unknown)), 'unknown joint')
+        if len(set(names)) != len(names):
+            raise CommandError('%s arm: joint command names a joint twice: %s'
+                               % (self.side, brief(list(names))), 'repeated joint')
         targets = {}
         for name, value in zip(names, values):
             limit = self.limits[name]
-            targets[name] = min(limit.upper, max(limit.lower, _finite(value, name)))
+            value = finite(value, '%s arm: joint command for %s' % (self.side, name),
+                           'non-finite value')
+            targets[name] = min(limit.upper, max(limit.lower, value))
+        self.step(now_s)  # the arm moved toward the old targets until the command arrived
         self.targets.update(targets)
         self.mode = mode
         self.last_command_s = now_s
@@ -113,108 +108,11 @@ class Arm:
             ratio = self.speed_ratio
         for name, limit in self.limits.items():
             old = self.positions[name]
-            new = _approach(old, self.targets[name], ratio * limit.velocity * active_s, smoothing)
+            new = approach(old, self.targets[name], ratio * limit.velocity * active_s, smoothing)
             self.positions[name] = new
             self.velocities[name] = (new - old) / dt
         if self.last_command_s is None:
             self.targets = dict(self.positions)
-
-
-class Gripper:
-    """One electric gripper: position 0 (closed) ... 100 (open), moving at a finite speed.
-
-    Args:
-        max_speed_pct_s: speed at velocity parameter 100 (% of travel per second).
-        calibrated: whether it starts calibrated (the real one does not after power-up).
-    """
-
-    def __init__(self, max_speed_pct_s, calibrated, now_s):
-        self.max_speed_pct_s = max_speed_pct_s
-        self.position = GRIPPER_OPEN
-        self.speed_pct_s = 0.0
-        self.target = GRIPPER_OPEN
-        self.parameters = dict(GRIPPER_DEFAULTS)
-        self.calibrated = calibrated
-        self.calibrating = False
-        self.error = False
-        self.missed = False
-        self.last_command = ('', '', 0)   # (command, sender, sequence), echoed in the state
-        self.last_step_s = now_s
-
-    @property
-    def moving(self):
-        return self.position != self.target
-
-    def command(self, command, args, sender, sequence):
-        """Handle an EndEffectorCommand; it is acknowledged even when refused.
-
-        Args:
-            command: 'go', 'calibrate', 'clear_calibration', 'reset', 'stop', 'configure',
-                'reboot' or 'no_op'.
-            args: the command's JSON argument text ('' for none).
-
-        Raises:
-            CommandError: unknown command, bad arguments, or go while uncalibrated.
-        """
-        self.last_command = (command, sender, sequence)
-        try:
-            args = json.loads(args) if args.strip() else {}
-        except ValueError as error:
-            raise CommandError('gripper %s: args are not JSON: %r' % (command, args)) from error
-        if not isinstance(args, dict):
-            raise CommandError('gripper %s: args must be a JSON object' % command)
-        if command == 'go':
-            if not self.calibrated:
-                raise CommandError('gripper go refused: not calibrated (send calibrate first)')
-            if 'position' not in args:
-                raise CommandError('gripper go needs {"position": 0..100}')
-            self.target = min(GRIPPER_OPEN, max(0.0, _finite(args['position'], 'position')))
-            self.missed = False
-        elif command == 'configure':
-            unknown = set(args) - set(GRIPPER_DEFAULTS)
-            if unknown:
-                raise CommandError('gripper configure: unknown parameters %s'
-                                   % ', '.join(sorted(unknown)))
-            for key, value in args.items():
-                self.parameters[key] = min(100.0, max(0.0, _finite(value, key)))
-        elif command == 'calibrate':
-            self.calibrated, self.calibrating = False, True
-            self.target = GRIPPER_OPEN
-        elif command in ('clear_calibration', 'reboot'):
-            self.calibrated = self.calibrating = False
-            self.target = self.position
-            self.error = self.error and command != 'reboot'
-        elif command == 'reset':
-            self.error = False
-        elif command == 'stop':
-            self.target = self.position
-            self.calibrating = False
-        elif command != 'no_op':
-            raise CommandError('gripper command %r is not supported by the electric gripper'
-                               % (command,))
-
-    def step(self, now_s, enabled):
-        """Move toward the target until now_s (only while the robot is enabled)."""
-        dt = now_s - self.last_step_s
-        if dt <= 0.0:
-            return
-        self.last_step_s = now_s
-        if not enabled:
-            self.target = self.position
-            self.speed_pct_s = 0.0
-            self.calibrating = False
-            return
-        old = self.position
-        max_step = self.max_speed_pct_s * self.parameters['velocity'] / 100.0 * dt
-        self.position = _approach(old, self.target, max_step, 1.0)
-        self.speed_pct_s = (self.position - old) / dt
-        if self.moving:
-            return
-        if self.calibrating:
-            self.calibrated, self.calibrating = True, False
-        elif old != self.position:
-            # Nothing is ever grasped here: a close that reaches the end of travel missed.
-            self.missed = self.position <= self.parameters['dead_zone']
 
 
 class BaxterModel:
@@ -248,7 +146,7 @@ class BaxterModel:
             CommandError: enabling while stopped (reset first).
         """
         if enable and self.stopped:
-            raise CommandError('cannot enable: the robot is stopped; reset it first')
+            raise CommandError('cannot enable: the robot is stopped; reset it first', 'stopped')
         self.enabled = bool(enable)
         for arm in self.arms.values():
             arm.hold()
@@ -270,7 +168,7 @@ class BaxterModel:
     # -- commands --
     def _arm(self, side):
         if side not in self.arms:
-            raise CommandError('unknown arm side %r' % (side,))
+            raise CommandError('unknown arm side %s' % brief(side), 'unknown side')
         return self.arms[side]
 
     def joint_command(self, side, mode, names, values, now_s):
@@ -286,22 +184,23 @@ class BaxterModel:
 
     def set_speed_ratio(self, side, ratio):
         """Set the mode-1 speed as a fraction 0..1 of the velocity limits."""
-        ratio = _finite(ratio, 'speed ratio')
+        ratio = finite(ratio, 'speed ratio')
         if not 0.0 <= ratio <= 1.0:
-            raise CommandError('speed ratio must be within 0..1, got %g' % ratio)
+            raise CommandError('speed ratio must be within 0..1, got %g' % ratio, 'out of range')
         self._arm(side).speed_ratio = ratio
 
     def set_command_timeout(self, side, timeout_s):
         """Set how long the arm follows its last command before holding (s, > 0)."""
-        timeout_s = _finite(timeout_s, 'joint command timeout')
+        timeout_s = finite(timeout_s, 'joint command timeout')
         if timeout_s <= 0.0:
-            raise CommandError('joint command timeout must be > 0 s, got %g' % timeout_s)
+            raise CommandError('joint command timeout must be > 0 s, got %g' % timeout_s,
+                               'out of range')
         self._arm(side).command_timeout_s = timeout_s
 
     def gripper_command(self, side, command, args, sender, sequence):
         """Apply an EndEffectorCommand to one gripper (see Gripper.command)."""
         if side not in self.grippers:
-            raise CommandError('unknown gripper side %r' % (side,))
+            raise CommandError('unknown gripper side %s' % brief(side), 'unknown side')
         self.grippers[side].command(command, args, sender, sequence)
 
     # -- time --

@@ -1,6 +1,8 @@
 """ROS node baxter_sim: a kinematic Baxter stand-in that speaks Baxter's own ROS API.
 
-The motion is robopuppet.baxter_model; this module only wires it to topics.
+The motion is robopuppet.baxter_model; this module only wires it to topics. Every callback and
+the publishing loop run through a robopuppet.periodic Guard: an exception is logged with the
+count of failures so far and the node keeps going.
 """
 import math
 import sys
@@ -15,7 +17,9 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool, Empty, Float64
 
 from robopuppet import baxter_description as bd
-from robopuppet.baxter_model import BaxterModel, CommandError
+from robopuppet.baxter_model import BaxterModel
+from robopuppet.baxter_refusals import CommandError, RefusalThrottle, brief
+from robopuppet.periodic import Guard, Loop
 
 SOFTWARE_VERSION = '1.2.0'
 # The electric gripper's hardware id; the SDK copies it from the state into every command.
@@ -23,7 +27,7 @@ GRIPPER_ID = 65538
 GRIPPER_FIRMWARE_DATE = '2014/11/05 14:43:21'   # the SDK 1.2 warns for dates before 2014/05/20
 STATE_EVERY_N_CYCLES = 5                        # /robot/state at rate_hz / 5
 SWITCH_INTERVAL_S = 0.0005
-WARN_INTERVAL_S = 2.0       # a refused command is logged at most this often per command kind
+WARN_INTERVAL_S = 2.0       # a refusal is logged at most this often per topic and reason
 
 
 def positive_param(name, value):
@@ -39,22 +43,6 @@ def positive_param(name, value):
     if not (math.isfinite(number) and number > 0.0) or isinstance(value, bool):
         raise ValueError('parameter %s must be a number > 0, got %r' % (name, value))
     return number
-
-
-class WarnThrottle:
-    """Decide whether to log a warning: at most once per interval for each key."""
-
-    def __init__(self, interval_s):
-        self.interval_s = interval_s
-        self._last_s = {}
-
-    def due(self, key, now_s):
-        """Return True (and restart the key's interval) when key was not logged recently."""
-        last_s = self._last_s.get(key)
-        if last_s is not None and 0.0 <= now_s - last_s < self.interval_s:
-            return False
-        self._last_s[key] = now_s
-        return True
 
 
 def gripper_properties(side):
@@ -87,6 +75,9 @@ class BaxterSimNode:
         cycle), /robot/end_effector/<side>_gripper/state (EndEffectorState, every cycle) and
         .../properties (EndEffectorProperties, latched).
       Sets: /rethink/software_version = '1.2.0'.
+      Logs: a refused command, at most every 2 s per topic and reason of refusal; an exception
+        in a callback or in the publishing loop (which both go on), with the count of failures
+        since start (the stand-in has no /diagnostics).
       Parameters: /robot_description (URDF text; the package's urdf/baxter.urdf when unset),
         ~rate_hz (float, 100), ~joint_command_timeout (float s, 0.2, initial value for both
         arms), ~gripper_calibrated (bool, false: like the real grippers after power-up).
@@ -112,7 +103,8 @@ class BaxterSimNode:
                              % (rospy.resolve_name('~gripper_calibrated'), calibrated))
         self._lock = threading.Lock()         # the model, between the loop and the callbacks
         self._state_lock = threading.Lock()   # orders /robot/state messages like the changes
-        self._warn_throttle = WarnThrottle(WARN_INTERVAL_S)
+        self._throttle = RefusalThrottle(WARN_INTERVAL_S)
+        self._guard = Guard(rospy.get_name(), self._log_failure)
         self._model = BaxterModel(description, rospy.get_time(), gripper_calibrated=calibrated)
         for side in bd.SIDES:
             self._model.set_command_timeout(side, timeout_s)
@@ -120,6 +112,7 @@ class BaxterSimNode:
         self._state_pub = rospy.Publisher('/robot/state', AssemblyState, queue_size=1, latch=True)
         self._joint_pub = rospy.Publisher('/robot/joint_states', JointState, queue_size=10)
         self._endpoint_pub, self._gripper_pub = {}, {}
+        self._cycle = 0
         for side in bd.SIDES:
             limb = '/robot/limb/%s/' % side
             gripper = '/robot/end_effector/%s_gripper/' % side
@@ -129,66 +122,93 @@ class BaxterSimNode:
                                                       queue_size=10)
             rospy.Publisher(gripper + 'properties', EndEffectorProperties, queue_size=1,
                             latch=True).publish(gripper_properties(side))
-            rospy.Subscriber(limb + 'joint_command', JointCommand, self._on_joint_command,
-                             side, queue_size=10)
-            rospy.Subscriber(limb + 'set_speed_ratio', Float64, self._on_setting,
-                             (self._model.set_speed_ratio, side), queue_size=10)
-            rospy.Subscriber(limb + 'joint_command_timeout', Float64, self._on_setting,
-                             (self._model.set_command_timeout, side), queue_size=10)
-            rospy.Subscriber(gripper + 'command', EndEffectorCommand, self._on_gripper_command,
-                             side, queue_size=10)
-        rospy.Subscriber('/robot/set_super_enable', Bool, self._on_enable, queue_size=10)
-        rospy.Subscriber('/robot/set_super_reset', Empty, self._on_enable_action,
-                         self._model.reset, queue_size=10)
-        rospy.Subscriber('/robot/set_super_stop', Empty, self._on_enable_action,
-                         self._model.stop, queue_size=10)
+            self._subscribe(limb + 'joint_command', JointCommand, self._on_joint_command, side)
+            self._subscribe(limb + 'set_speed_ratio', Float64, self._on_setting,
+                            self._model.set_speed_ratio, side)
+            self._subscribe(limb + 'joint_command_timeout', Float64, self._on_setting,
+                            self._model.set_command_timeout, side)
+            self._subscribe(gripper + 'command', EndEffectorCommand, self._on_gripper_command,
+                            side)
+        self._subscribe('/robot/set_super_enable', Bool, self._on_enable)
+        self._subscribe('/robot/set_super_reset', Empty, self._on_enable_action,
+                        self._model.reset)
+        self._subscribe('/robot/set_super_stop', Empty, self._on_enable_action, self._model.stop)
         self._publish_state()
 
-    def _warn(self, key, text):
-        """Log a refused command, at most every WARN_INTERVAL_S for each key.
+    def _subscribe(self, topic, msg_type, handler, *args):
+        """Subscribe handler(msg, topic, *args), run through the Guard."""
+        def guarded(msg):
+            self._guard.call(topic, handler, msg, topic, *args)
+        rospy.Subscriber(topic, msg_type, guarded, queue_size=10)
 
-        A script that repeats a bad command at 100 Hz gets one line every 2 s, not a flood;
-        different kinds of refusal (key) are still each reported.
+    def _log_failure(self, text):
+        """Log a callback's or the loop's exception (the Guard throttles and counts them)."""
+        rospy.logerr('%s [%d failures in all since start]', text, self._guard.errors)
+
+    def _apply(self, topic, action, *args):
+        """Run a model call under the lock; log (never raise) a refused command.
+
+        A refusal is logged at most every WARN_INTERVAL_S for each topic and reason, so a
+        script that repeats a bad command at 100 Hz gets one line every 2 s, and other kinds
+        of refusal, or the same kind on another topic, are each still reported.
+
+        Returns:
+            True when the model took the command.
         """
-        if self._warn_throttle.due(key, time.monotonic()):
-            rospy.logwarn('%s (repeats of this kind are logged every %g s)', text,
-                          WARN_INTERVAL_S)
-
-    def _apply(self, action, *args):
-        """Run a model call under the lock; log (never raise) a refused command."""
         with self._lock:
             try:
                 action(*args)
+                return True
             except CommandError as error:
-                self._warn((action.__name__, type(error)), str(error))
+                self._refused(topic, error.reason, str(error))
                 return False
-        return True
 
-    def _on_joint_command(self, msg, side):
-        self._apply(self._model.joint_command, side, msg.mode, msg.names, msg.command,
+    def _refused(self, topic, reason, text):
+        skipped = self._throttle.report((topic, reason), time.monotonic())
+        if skipped is not None:
+            rospy.logwarn('refused on %s: %s (%s: logged at most every %g s%s)', topic, text,
+                          reason, WARN_INTERVAL_S,
+                          '; %d more since the last line' % skipped if skipped else '')
+
+    def _on_joint_command(self, msg, topic, side):
+        self._apply(topic, self._model.joint_command, side, msg.mode, msg.names, msg.command,
                     rospy.get_time())
 
-    def _on_setting(self, msg, setter_side):
-        setter, side = setter_side
-        self._apply(setter, side, msg.data)
+    def _on_setting(self, msg, topic, setter, side):
+        self._apply(topic, setter, side, msg.data)
 
-    def _on_gripper_command(self, msg, side):
+    def _on_gripper_command(self, msg, topic, side):
         if msg.id != GRIPPER_ID:
             with self._lock:
-                self._warn(('gripper id', side), '%s gripper command %r ignored: id %d is not '
-                           'this gripper\'s %d' % (side, msg.command, msg.id, GRIPPER_ID))
+                self._refused(topic, 'wrong id', 'gripper command %s ignored: id %d is not this '
+                              'gripper\'s %d' % (brief(msg.command), msg.id, GRIPPER_ID))
             return
-        self._apply(self._model.gripper_command, side, msg.command, msg.args, msg.sender,
+        self._apply(topic, self._model.gripper_command, side, msg.command, msg.args, msg.sender,
                     msg.sequence)
 
-    def _on_enable(self, msg):
-        if self._apply(self._model.set_enabled, msg.data):
-            rospy.loginfo('robot %s', 'enabled' if msg.data else 'disabled')
-        self._publish_state()
+    def _enable_state(self):
+        with self._lock:
+            return self._model.enabled, self._model.stopped
 
-    def _on_enable_action(self, _msg, action):
-        self._apply(action)
-        rospy.loginfo('robot %s', 'stopped' if action == self._model.stop else 'reset')
+    def _on_enable(self, msg, topic):
+        before = self._enable_state()
+        self._apply(topic, self._model.set_enabled, msg.data)
+        self._state_changed(before)
+
+    def _on_enable_action(self, _msg, topic, action):
+        before = self._enable_state()
+        self._apply(topic, action)
+        self._state_changed(before)
+
+    def _state_changed(self, before):
+        """Log and publish /robot/state when enable or stop changed (not for repeats)."""
+        enabled, stopped = after = self._enable_state()
+        if after == before:
+            return
+        if stopped != before[1]:
+            rospy.loginfo('robot %s', 'stopped' if stopped else 'reset (it stays disabled)')
+        else:
+            rospy.loginfo('robot %s', 'enabled' if enabled else 'disabled')
         self._publish_state()
 
     def _publish_state(self):
@@ -233,19 +253,21 @@ class BaxterSimNode:
             position=gripper.position, force=0.0, state='', command=command,
             command_sender=sender, command_sequence=sequence)
 
+    def _loop_once(self):
+        if rospy.is_shutdown():
+            return
+        self._publish_cycle(rospy.get_rostime())
+        self._cycle += 1
+        if self._cycle % STATE_EVERY_N_CYCLES == 0:
+            self._publish_state()
+
     def spin(self):
-        """Step and publish at rate_hz until shutdown."""
-        rate = rospy.Rate(self._rate_hz)
-        cycle = 0
-        while not rospy.is_shutdown():
-            self._publish_cycle(rospy.get_rostime())
-            cycle += 1
-            if cycle % STATE_EVERY_N_CYCLES == 0:
-                self._publish_state()
-            try:
-                rate.sleep()
-            except rospy.ROSInterruptException:
-                break
+        """Step and publish at rate_hz (on a Loop thread) until shutdown."""
+        loop = Loop(self._guard, 'publishing loop', 1.0 / self._rate_hz, self._loop_once)
+        rospy.on_shutdown(loop.stop)
+        loop.start()
+        rospy.spin()
+        loop.stop()
 
 
 def main():

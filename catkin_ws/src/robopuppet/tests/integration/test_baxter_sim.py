@@ -4,7 +4,6 @@ import json
 import math
 import os
 import subprocess
-import threading
 import time
 import unittest
 
@@ -17,50 +16,11 @@ from baxter_core_msgs.msg import (AssemblyState, EndEffectorCommand, EndEffector
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool, Empty
 
+from baxter_sim_testing import Latest, publisher, wait_for
 from robopuppet import baxter_description as bd
 
 URDF = os.path.join(rospkg.RosPack().get_path('robopuppet'), 'urdf', 'baxter.urdf')
 DESC = bd.load(URDF)
-
-
-class Latest:
-    """Keep the last message of a topic, and optionally all of them."""
-
-    def __init__(self, topic, msg_type):
-        self.msg = None
-        self.log = None
-        self.lock = threading.Lock()
-        rospy.Subscriber(topic, msg_type, self._on_msg, queue_size=100)
-
-    def _on_msg(self, msg):
-        with self.lock:
-            self.msg = msg
-            if self.log is not None:
-                self.log.append(msg)
-
-    def record(self):
-        with self.lock:
-            self.log = []
-
-    def stop_recording(self):
-        with self.lock:
-            log, self.log = self.log, None
-        return log
-
-
-def wait_for(test, timeout_s, what):
-    deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline and not rospy.is_shutdown():
-        if test():
-            return
-        time.sleep(0.02)
-    raise AssertionError('timed out after %.1f s waiting for %s' % (timeout_s, what))
-
-
-def publisher(topic, msg_type):
-    pub = rospy.Publisher(topic, msg_type, queue_size=10)
-    wait_for(lambda: pub.get_num_connections() > 0, 10.0, 'a subscriber on ' + topic)
-    return pub
 
 
 class BaxterSimTest(unittest.TestCase):
@@ -164,7 +124,7 @@ class BaxterSimTest(unittest.TestCase):
         self.command_until('left', JointCommand.RAW_POSITION_MODE, beyond,
                            lambda: self.at_targets(upper) and len(self.joints.log) > 200,
                            travel_s + 20.0, 'the left arm to reach its upper limits')
-        log = self.joints.stop_recording()
+        log = [msg for _, msg in self.joints.stop_recording()]
         # The motion came in small steps: the slowest joint passed through many positions.
         slowest = max(limits, key=lambda n: (limits[n].upper - start[n]) / limits[n].velocity)
         passing = {dict(zip(m.name, m.position))[slowest] for m in log}
@@ -245,7 +205,7 @@ class BaxterSimTest(unittest.TestCase):
         wait_for(lambda: self.acknowledged('go', 13), 3.0, 'go acknowledged')
         wait_for(lambda: self.gripper.msg.position == 0.0 and not self.gripper.msg.moving,
                  5.0, 'the gripper to close')
-        log = self.gripper.stop_recording()
+        log = [msg for _, msg in self.gripper.stop_recording()]
         during = [m.position for m in log if m.command_sequence == 13]
         self.assertTrue(any(0.0 < p < 100.0 for p in during), 'fingers jumped, not moved')
         wait_for(lambda: self.positions()['l_gripper_l_finger_joint'] == 0.0, 2.0,

@@ -1,11 +1,14 @@
-"""Tests of robopuppet.baxter_model: enable state, arm motion limits, timeout hold, grippers."""
+"""Tests of robopuppet.baxter_model and baxter_gripper: enable state, arm motion limits, timeout
+hold, refusals, hold at the measured pose, grippers."""
 import math
 
 import pytest
 
 from robopuppet import baxter_description as bd
-from robopuppet.baxter_model import (BaxterModel, CommandError, NotEnabledError,
-                                     POSITION_MODE, RAW_POSITION_MODE)
+from robopuppet.baxter_gripper import MAX_TEXT_CHARS
+from robopuppet.baxter_model import (DEFAULT_COMMAND_TIMEOUT_S, SMOOTHING_TIME_S, BaxterModel,
+                                     CommandError, NotEnabledError, POSITION_MODE,
+                                     RAW_POSITION_MODE)
 
 DESC = bd.load()
 LEFT = bd.arm_joint_names('left')
@@ -150,19 +153,91 @@ def test_names_in_any_order_and_subsets():
     assert positions['left_e1'] == pytest.approx(0.75)   # untouched neutral value
 
 
-@pytest.mark.parametrize('mode, names, values', [
-    (2, ['left_s0'], [0.1]),                      # velocity mode
-    (3, ['left_s0'], [0.1]),                      # torque mode
-    (1, ['left_s0', 'left_s1'], [0.1]),           # length mismatch
-    (1, ['right_s0'], [0.1]),                     # the other arm's joint
-    (1, ['left_s0'], [float('nan')]),
+@pytest.mark.parametrize('mode, names, values, reason', [
+    (2, ['left_s0'], [0.1], 'velocity mode'),
+    (3, ['left_s0'], [0.1], 'torque mode'),
+    (-7, ['left_s0'], [0.1], 'unknown mode'),
+    (1, ['left_s0', 'left_s1'], [0.1], 'length mismatch'),
+    (1, [], [], 'empty'),
+    (4, [], [], 'empty'),
+    (1, ['right_s0'], [0.1], 'unknown joint'),           # the other arm's joint
+    (1, ['left_s0', 'bogus'], [0.1, 0.2], 'unknown joint'),
+    (1, ['left_s0', 'left_s0'], [0.1, -0.1], 'repeated joint'),
+    (1, LEFT * 20000, [0.1] * 140000, 'too many joints'),
+    (1, ['left_s0'], [float('nan')], 'non-finite value'),
+    (4, ['left_s0', 'left_e1'], [0.1, float('-inf')], 'non-finite value'),
 ])
-def test_bad_commands_are_dropped_whole(mode, names, values):
+def test_bad_commands_are_dropped_whole(mode, names, values, reason):
     model = enabled_model()
-    with pytest.raises(CommandError):
+    with pytest.raises(CommandError) as caught:
         model.joint_command('left', mode, names, values, 0.0)
+    assert caught.value.reason == reason
+    assert len(str(caught.value)) < 300
     run(model, 0.0, 0.1)
     assert model.arms['left'].positions == bd.neutral_pose('left')
+
+
+@pytest.mark.parametrize('names, values', [
+    ([], []),                                    # empty: what kept s0 moving for 3 s before
+    (['bogus'], [0.1]),
+    (['left_s0'], []),
+    (['left_e1'], [float('nan')]),
+    (['left_w0', 'left_w0'], [0.0, 0.0]),
+])
+def test_commands_carrying_nothing_usable_neither_restart_the_timeout_nor_switch_mode(
+        names, values):
+    model = enabled_model()
+    model.joint_command('left', POSITION_MODE, ['left_s0'], [1.5], 0.0)
+    t = 0.0
+    while t < 3.0:
+        with pytest.raises(CommandError):
+            model.joint_command('left', RAW_POSITION_MODE, names, values, t)
+        t = round(t + DT, 9)
+        model.step(t)
+    arm = model.arms['left']
+    assert arm.mode == POSITION_MODE
+    # Followed for the 0.2 s timeout only (mode 1 at 0.3 x 1.5 rad/s at most), then held.
+    assert 0.0 < arm.positions['left_s0'] <= 0.3 * 1.5 * 0.2 + 1e-9
+    assert arm.velocities['left_s0'] == 0.0
+
+
+@pytest.mark.parametrize('mode', [POSITION_MODE, RAW_POSITION_MODE])
+@pytest.mark.parametrize('resend', [True, False])
+def test_a_command_to_the_measured_pose_stops_the_arm_at_once(mode, resend):
+    """The arm controller's fault hold: command the pose /robot/joint_states reported.
+
+    The measurement is 20 ms old when the hold arrives (two more steps toward the old target);
+    from then on the arm must not go one step further toward the old target, and must settle on
+    the measured pose, whether the hold is re-sent at 100 Hz or sent once.
+    """
+    model = enabled_model()
+    model.set_speed_ratio('left', 1.0)
+    far = {lim.name: lim.upper for lim in bd.arm_limits('left')}
+    cmd = ('left', mode, list(far), list(far.values()))
+    t = run(model, 0.0, 0.1, cmd)
+    names, positions, _, _ = model.joint_state()
+    measured = {n: p for n, p in zip(names, positions) if n in far}
+    t = run(model, t, t + 0.02, cmd)            # the measurement travels to the controller
+    arm = model.arms['left']
+    at_hold = dict(arm.positions)
+    assert all(at_hold[n] > measured[n] + 1e-3 for n in far)   # it was moving toward `far`
+    hold = ('left', mode, list(measured), list(measured.values()))
+    model.joint_command(*hold, t)
+    for _ in range(100):
+        before = dict(arm.positions)
+        t = run(model, t, t + DT, hold if resend else None)
+        for name in far:
+            assert arm.positions[name] <= before[name] + 1e-12, name    # never on toward `far`
+            assert arm.positions[name] >= measured[name] - 1e-12, name  # nor past the hold
+    # Sent once, mode 1's lag (0.05 s) has the 0.2 s command timeout to undo the 20 ms of
+    # motion since the measurement: it ends within exp(-4) of that (<= 1.5 mrad), then holds.
+    for name, limit in arm.limits.items():
+        tolerance = 1e-6
+        if mode == POSITION_MODE and not resend:
+            tolerance = 0.02 * limit.velocity * math.exp(-DEFAULT_COMMAND_TIMEOUT_S
+                                                         / SMOOTHING_TIME_S) + 1e-6
+        assert arm.positions[name] == pytest.approx(measured[name], abs=tolerance)
+        assert abs(arm.velocities[name]) < 1e-3
 
 
 def test_bad_settings_are_refused():
@@ -226,10 +301,40 @@ def test_gripper_configure_stop_and_errors():
     model.gripper_command('left', 'stop', '', 's', 3)
     model.step(0.5)
     assert gripper.position == pytest.approx(100.0 - 0.05 / 0.020833 * 100.0 * 0.1)
-    for command, args in [('configure', '{"speed": 1}'), ('go', 'not json'), ('grip', ''),
-                          ('go', '{"position": "half"}'), ('go', '[1]')]:
-        with pytest.raises(CommandError):
+    for command, args, reason in [
+            ('configure', '{"speed": 1}', 'unknown parameter'),
+            ('configure', '{"velocity": 10, "dead_zone": "x"}', 'bad value'),  # all or nothing
+            ('go', 'not json', 'malformed args'),
+            ('go', '{"position": ' + '[' * 4000, 'malformed args'),   # was a RecursionError
+            ('go', '[' * 2000 + ']' * 2000, 'malformed args'),
+            ('go', '{"position": 1' + '0' * 400 + '}', 'bad value'),  # was an OverflowError
+            ('go', '{"position": 1e999}', 'bad value'),
+            ('go', '{"position": NaN}', 'bad value'),
+            ('go', '{"position": "50"}', 'bad value'),
+            ('go', '{"position": true}', 'bad value'),
+            ('go', '{}', 'malformed args'),
+            ('grip', '', 'unknown command'),
+            ('go', '{"position": "half"}', 'bad value'),
+            ('go', '[1]', 'malformed args')]:
+        with pytest.raises(CommandError) as caught:
             model.gripper_command('left', command, args, 's', 4)
+        assert caught.value.reason == reason, args[:40]
+        assert len(str(caught.value)) < 300
+        assert gripper.last_command == (command, 's', 4)   # acknowledged although refused
+    assert gripper.parameters['velocity'] == 100.0 and gripper.target == gripper.position
+
+
+def test_gripper_refuses_text_too_long_to_echo_without_acknowledging_it():
+    model = enabled_model(gripper_calibrated=True)
+    gripper = model.grippers['left']
+    model.gripper_command('left', 'no_op', '', 's', 1)
+    for command, args, sender in [('go', '{"position": 0}', 'x' * (MAX_TEXT_CHARS + 1)),
+                                  ('go', ' ' * 10 ** 6 + '{"position": 0}', 's'),
+                                  ('g' * 10 ** 6, '', 's')]:
+        with pytest.raises(CommandError) as caught:
+            model.gripper_command('left', command, args, sender, 2)
+        assert caught.value.reason == 'too long'
+    assert gripper.last_command == ('no_op', 's', 1) and gripper.target == 100.0
 
 
 def test_gripper_does_not_move_while_disabled():
@@ -247,3 +352,21 @@ def test_endpoint_pose_follows_the_arm():
     # s0 turns the whole arm about the vertical axis of its mount: height is unchanged.
     assert after[2] == pytest.approx(before[2])
     assert math.hypot(after[0] - before[0], after[1] - before[1]) > 0.1
+
+
+def test_a_command_takes_effect_when_it_arrives_not_at_the_last_step():
+    """Between two steps the arm moves toward the old target until the new command arrives (a
+    real arm cannot obey a command before it gets it)."""
+    model = enabled_model()
+    far = {lim.name: lim.upper for lim in bd.arm_limits('left')}
+    run(model, 0.0, 0.1, ('left', RAW_POSITION_MODE, list(far), list(far.values())))
+    arm = model.arms['left']
+    speeds = dict(arm.velocities)
+    assert all(v > 0.1 for v in speeds.values())  # moving toward `far` at its limits
+    # At 0.105 s, halfway to the next step, "stay where you are now" arrives.
+    now = {n: arm.positions[n] + speeds[n] * 0.005 for n in far}
+    model.joint_command('left', RAW_POSITION_MODE, list(now), list(now.values()), 0.105)
+    model.step(0.11)
+    for name in far:
+        assert arm.positions[name] == pytest.approx(now[name], abs=1e-9), name
+        assert arm.velocities[name] == pytest.approx(0.0, abs=1e-6), name

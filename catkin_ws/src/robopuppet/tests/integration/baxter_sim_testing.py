@@ -1,0 +1,48 @@
+"""What the Baxter stand-in's rostests share: a recording subscriber, waiting, publishers."""
+import threading
+import time
+
+import rospy
+
+
+class Latest:
+    """Keep the last message of a topic, and while recording all of them with receive times."""
+
+    def __init__(self, topic, msg_type, queue_size=1000):
+        self.lock = threading.Lock()
+        self.msg, self.log = None, None
+        rospy.Subscriber(topic, msg_type, self._on_msg, queue_size=queue_size)
+
+    def _on_msg(self, msg):
+        with self.lock:
+            self.msg = msg
+            if self.log is not None:
+                self.log.append((time.monotonic(), msg))
+
+    def record(self):
+        """Start recording (again, from now)."""
+        with self.lock:
+            self.log = []
+
+    def stop_recording(self):
+        """Stop recording; return [(receive time s, message)] since record()."""
+        with self.lock:
+            log, self.log = self.log, None
+        return log
+
+
+def wait_for(test, timeout_s, what):
+    """Wait until test() is true; raise AssertionError naming `what` after timeout_s."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline and not rospy.is_shutdown():
+        if test():
+            return
+        time.sleep(0.02)
+    raise AssertionError('timed out after %.1f s waiting for %s' % (timeout_s, what))
+
+
+def publisher(topic, msg_type, queue_size=100):
+    """Return a publisher on topic once the stand-in subscribes to it."""
+    pub = rospy.Publisher(topic, msg_type, queue_size=queue_size)
+    wait_for(lambda: pub.get_num_connections() > 0, 10.0, 'a subscriber on ' + topic)
+    return pub

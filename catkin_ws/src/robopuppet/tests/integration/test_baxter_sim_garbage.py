@@ -1,0 +1,220 @@
+#!/usr/bin/python3
+"""rostest: garbage on every topic baxter_sim subscribes never kills it nor makes it publish
+a non-finite or out-of-limit state, and each kind of refusal gets its own log line."""
+import json
+import math
+import random
+import time
+import unittest
+
+import rospy
+import rostest
+from baxter_core_msgs.msg import (AssemblyState, EndEffectorCommand, EndEffectorState,
+                                  EndpointState, JointCommand)
+from rosgraph_msgs.msg import Log
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Bool, Empty, Float64
+
+from baxter_sim_testing import Latest, publisher, wait_for
+from robopuppet import baxter_description as bd
+
+GRIPPER_ID = 65538
+RATE_HZ = 100.0
+SEED = 14
+BAD_FLOATS = [math.nan, math.inf, -math.inf, 1e39, -1e39, 1e308, -1e308, 5e-324, 0.0, -1.0]
+HUGE_NAMES = 100000
+
+
+class Garbage:
+    """Seeded garbage for each kind of message the stand-in subscribes."""
+
+    def __init__(self, seed):
+        self.rng = random.Random(seed)
+
+    def number(self):
+        rng = self.rng
+        return rng.choice(BAD_FLOATS) if rng.random() < 0.6 else rng.uniform(-10.0, 10.0)
+
+    def text(self):
+        rng = self.rng
+        return rng.choice(['', 'left_s0', 'x' * 5000, ''.join(
+            chr(rng.randrange(1, 0xd7ff)) for _ in range(rng.randrange(1, 40)))])
+
+    def joint_command(self, side):
+        rng = self.rng
+        names = bd.arm_joint_names(side)
+        other = bd.arm_joint_names('left' if side == 'right' else 'right')
+        choice = rng.randrange(8)
+        if choice == 0:
+            chosen = []
+        elif choice == 1:
+            chosen = rng.sample(other, rng.randrange(1, 8))
+        elif choice == 2:
+            chosen = [self.text() for _ in range(rng.randrange(1, 5))]
+        elif choice == 3:
+            chosen = [rng.choice(names) for _ in range(rng.randrange(2, 12))]   # repeats
+        else:
+            chosen = rng.sample(names, rng.randrange(1, 8))
+        count = len(chosen) if rng.random() < 0.7 else rng.randrange(0, 10)
+        mode = rng.choice([1, 4, 1, 4, 2, 3, 0, -1, 5, 2 ** 31 - 1, -2 ** 31])
+        return JointCommand(mode=mode, names=chosen, command=[self.number() for _ in range(count)])
+
+    def gripper_command(self):
+        rng = self.rng
+        args = rng.choice([
+            '', '{"position": 1e999}', '{"position": NaN}', '{"position": -Infinity}',
+            '[' * 4000, '{"position": ' + '[' * 3000, '{"position": 1' + '0' * 400 + '}',
+            '{"velocity": -1e39, "dead_zone": 1e39}', '{"velocity": "fast"}', '{"position": 50}',
+            '{"position": ' + json.dumps(self.number()) + '}', 'x' * 200000, '{', '"a"',
+            json.dumps({'position': [1] * 1000})])
+        command = rng.choice(['go', 'go', 'configure', 'calibrate', 'stop', 'reset', 'no_op',
+                              'grip', '', 'x' * 10000])
+        return EndEffectorCommand(id=GRIPPER_ID if rng.random() < 0.8 else rng.randrange(2 ** 32),
+                                  command=command, args=args,
+                                  sender=rng.choice(['fuzz', '', 'x' * 100000]),
+                                  sequence=rng.randrange(2 ** 32))
+
+
+class BaxterSimGarbageTest(unittest.TestCase):
+
+    @classmethod
+    def setUpClass(cls):
+        cls.limits = {lim.name: lim for side in bd.SIDES for lim in bd.arm_limits(side)}
+        cls.fingers = {name: bd.load().limit(name) for side in bd.SIDES
+                       for name in bd.gripper_finger_joints(side)}
+        cls.joints = Latest('/robot/joint_states', JointState)
+        cls.state = Latest('/robot/state', AssemblyState)
+        cls.endpoint = {s: Latest('/robot/limb/%s/endpoint_state' % s, EndpointState)
+                        for s in bd.SIDES}
+        cls.gripper = {s: Latest('/robot/end_effector/%s_gripper/state' % s, EndEffectorState)
+                       for s in bd.SIDES}
+        cls.rosout = Latest('/rosout', Log)
+        cls.enable_pub = publisher('/robot/set_super_enable', Bool)
+        cls.stop_pub = publisher('/robot/set_super_stop', Empty)
+        cls.reset_pub = publisher('/robot/set_super_reset', Empty)
+        cls.cmd_pub, cls.ratio_pub, cls.timeout_pub, cls.gripper_pub = {}, {}, {}, {}
+        for side in bd.SIDES:
+            limb = '/robot/limb/%s/' % side
+            cls.cmd_pub[side] = publisher(limb + 'joint_command', JointCommand)
+            cls.ratio_pub[side] = publisher(limb + 'set_speed_ratio', Float64)
+            cls.timeout_pub[side] = publisher(limb + 'joint_command_timeout', Float64)
+            cls.gripper_pub[side] = publisher('/robot/end_effector/%s_gripper/command' % side,
+                                              EndEffectorCommand)
+        wait_for(lambda: cls.state.msg and cls.joints.msg, 20.0, 'the stand-in to publish')
+
+    def enable(self):
+        def enabled():
+            self.reset_pub.publish(Empty())
+            self.enable_pub.publish(Bool(True))
+            time.sleep(0.05)
+            return self.state.msg.enabled
+        wait_for(enabled, 10.0, 'the robot to be enabled')
+
+    def warnings(self, log):
+        return [m.msg for _, m in log if m.name == '/baxter_sim' and m.level == Log.WARN]
+
+    def test_1_each_kind_of_refusal_is_logged(self):
+        self.enable()
+        time.sleep(2.5)   # past the throttle interval of anything refused before
+        self.rosout.record()
+        for side, mode, names in [('left', JointCommand.VELOCITY_MODE, ['left_s0']),
+                                  ('right', JointCommand.TORQUE_MODE, ['right_s0']),
+                                  ('left', JointCommand.POSITION_MODE, ['right_s0']),
+                                  ('left', JointCommand.POSITION_MODE, ['left_s0'] * 2)]:
+            for _ in range(5):   # repeats of one kind are logged once
+                self.cmd_pub[side].publish(JointCommand(mode=mode, names=names, command=[0.1]
+                                                        * len(names)))
+        self.gripper_pub['right'].publish(EndEffectorCommand(
+            id=GRIPPER_ID, command='go', args='{"position": ' + '[' * 4000, sender='t',
+            sequence=1))
+        wanted = [('mode 2', 'left'), ('mode 3', 'right'), ('right_s0', 'left arm'),
+                  ('twice', 'left'), ('nested too deeply', 'right_gripper')]
+
+        def all_logged():
+            lines = self.warnings(self.rosout.log)
+            return all(any(a in line and b in line for line in lines) for a, b in wanted)
+        wait_for(all_logged, 5.0, 'a warning for each of %s' % wanted)
+        time.sleep(0.5)
+        lines = self.warnings(self.rosout.stop_recording())
+        self.assertEqual(len(lines), len(wanted), lines)
+
+    def test_2_garbage_on_every_topic(self):
+        self.enable()
+        rng = Garbage(SEED)
+        for recorder in [self.joints, *self.endpoint.values(), *self.gripper.values()]:
+            recorder.record()
+        start = time.monotonic()
+        sent = 0
+        stop_s, end_s = start + 3.0, start + 5.0    # last 2 s: enable, stop and reset too
+        while time.monotonic() < end_s:
+            for side in bd.SIDES:
+                self.cmd_pub[side].publish(rng.joint_command(side))
+                self.cmd_pub[side].publish(JointCommand(   # and valid motion in between
+                    mode=rng.rng.choice([1, 4]), names=bd.arm_joint_names(side),
+                    command=[rng.rng.uniform(-3.0, 3.0) for _ in range(7)]))
+                self.ratio_pub[side].publish(Float64(rng.number()))
+                self.timeout_pub[side].publish(Float64(rng.number()))
+                self.gripper_pub[side].publish(rng.gripper_command())
+                sent += 5
+            if sent % 500 < 10:   # now and then a huge one
+                self.cmd_pub['left'].publish(JointCommand(
+                    mode=1, names=['left_s0'] * HUGE_NAMES, command=[1e39] * HUGE_NAMES))
+            if time.monotonic() > stop_s:
+                self.stop_pub.publish(Empty())
+                self.reset_pub.publish(Empty())
+                self.enable_pub.publish(Bool(rng.rng.random() < 0.5))
+            time.sleep(0.002)
+        duration_s = time.monotonic() - start
+        time.sleep(0.3)
+        joints = self.joints.stop_recording()
+        endpoints = {s: r.stop_recording() for s, r in self.endpoint.items()}
+        grippers = {s: r.stop_recording() for s, r in self.gripper.items()}
+        rospy.loginfo('garbage: %d messages in %.1f s; %d joint states', sent, duration_s,
+                      len(joints))
+
+        # At its rate: a loaded 2-core machine may slow it, garbage must not stop it.
+        self.assertGreater(len(joints), 0.5 * RATE_HZ * duration_s)
+        stamps = [m.header.stamp.to_sec() for _, m in joints]
+        self.assertLess(max(b - a for a, b in zip(stamps, stamps[1:])), 0.5)
+        for _, msg in joints:
+            self.assertEqual(len(msg.name), len(msg.position))
+            self.assertEqual(len(msg.name), len(msg.velocity))
+            for name, position, velocity in zip(msg.name, msg.position, msg.velocity):
+                self.assertTrue(math.isfinite(position) and math.isfinite(velocity),
+                                (name, position, velocity))
+                limit = self.limits.get(name) or self.fingers.get(name)
+                if limit is None:
+                    self.assertEqual((position, velocity), (0.0, 0.0), name)   # head, torso
+                    continue
+                self.assertTrue(limit.lower - 1e-9 <= position <= limit.upper + 1e-9,
+                                (name, position))
+                self.assertLessEqual(abs(velocity), limit.velocity + 1e-6, name)
+        for side in bd.SIDES:
+            self.assertGreater(len(endpoints[side]), 0.5 * RATE_HZ * duration_s)
+            for _, msg in endpoints[side]:
+                p, o = msg.pose.position, msg.pose.orientation
+                self.assertTrue(all(math.isfinite(v) for v in (p.x, p.y, p.z, o.x, o.y, o.z,
+                                                               o.w)))
+            for _, msg in grippers[side]:
+                self.assertTrue(0.0 <= msg.position <= 100.0, msg.position)
+                self.assertLessEqual(len(msg.command_sender), 4096)
+
+        # And it still obeys: a sane command is followed to its target.
+        self.enable()
+        targets = {'right_s0': -0.4, 'right_e1': 1.0}
+        for side in bd.SIDES:
+            self.timeout_pub[side].publish(Float64(0.2))
+            self.ratio_pub[side].publish(Float64(1.0))
+
+        def reached():
+            self.cmd_pub['right'].publish(JointCommand(mode=4, names=list(targets),
+                                                       command=list(targets.values())))
+            time.sleep(0.02)
+            positions = dict(zip(self.joints.msg.name, self.joints.msg.position))
+            return all(abs(positions[n] - v) < 1e-6 for n, v in targets.items())
+        wait_for(reached, 15.0, 'the right arm to reach %s after the garbage' % targets)
+
+
+if __name__ == '__main__':
+    rospy.init_node('test_baxter_sim_garbage')
+    rostest.rosrun('robopuppet', 'baxter_sim_garbage', BaxterSimGarbageTest)
