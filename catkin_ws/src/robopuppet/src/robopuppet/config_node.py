@@ -15,8 +15,10 @@ class ConfigNode:
 
     Subscribes: <ns>/joint_J/<setting> (std_msgs/Float32) for J = 0..6 and the twelve settings
         of DESIGN section 5. A valid value is written to the file atomically; an invalid one
-        (non-finite, a sign not +-1, a minimum above its maximum) is refused with a warning and
-        changes nothing.
+        (non-finite, a sign not +-1, outside the setting's bound in settings.SETTINGS, a minimum
+        above its maximum) is refused with a warning and changes nothing. While the file cannot
+        be written (read-only directory, full disk at start) every change is refused with an
+        error saying that changes will not persist.
     Serves: <ns>/get_config (robopuppet_msgs/GetConfig): the twelve settings of a joint; a joint
         outside 0..6 is a service error naming the valid range.
     Parameters:
@@ -26,6 +28,9 @@ class ConfigNode:
         ~seed_file (str, default ''): the file copied when the live file does not exist yet,
             normally the package's config/arm_<side>.ini.
     The node owns the file while it runs: edit it by hand only while the node is stopped.
+    A damaged file is backed up and repaired once at start. A file that cannot be read, or cannot
+    be written although it must be repaired or created, leaves the node serving what it could
+    read (or the defaults), refusing every change, until it is restarted.
     """
 
     def __init__(self):
@@ -35,12 +40,17 @@ class ConfigNode:
             rospy.get_param('~file_name', 'arm_%s.ini' % side), rospkg.get_ros_home())
         self._lock = threading.Lock()
         stamp = time.strftime('%Y%m%d-%H%M%S')
-        self._config, self._text, notes, problems = config_file.load_or_create(
-            self._path, rospy.get_param('~seed_file', ''), stamp)
-        for note in notes:
+        loaded = config_file.load_or_create(self._path, rospy.get_param('~seed_file', ''), stamp)
+        self._config, self._text = loaded.config, loaded.text
+        self._unwritable = loaded.unwritable  # why changes are refused, or ''
+        for note in loaded.notes:
             rospy.loginfo(note)
-        for problem in problems:
+        for problem in loaded.problems:
             rospy.logwarn(problem)
+        if self._unwritable:
+            rospy.logerr('%s: %s; serving what could be read (or the defaults), but CHANGES '
+                         'WILL NOT PERSIST: every change is refused until the node restarts '
+                         'with a writable file', self._ns, self._unwritable)
         self._subscribers = [
             rospy.Subscriber('%s/joint_%d/%s' % (self._ns, joint, name), Float32,
                              self._on_setting, callback_args=(joint, name), queue_size=100)
@@ -60,6 +70,11 @@ class ConfigNode:
     def _on_setting(self, msg, key):
         joint, name = key
         with self._lock:
+            if self._unwritable:
+                rospy.logerr('%s: refused joint %d %s = %r: changes will not persist (%s); '
+                             'settings unchanged', self._ns, joint, name, msg.data,
+                             self._unwritable)
+                return
             try:
                 value = config_store.validate(self._config[joint], joint, name, msg.data)
             except config_store.InvalidSetting as error:
@@ -73,8 +88,9 @@ class ConfigNode:
             try:
                 config_file.write_atomic(self._path, new_text)
             except OSError as error:
-                rospy.logerr('could not save joint %d %s = %r to %s: %s; setting not changed',
-                             joint, name, value, self._path, error)
+                rospy.logerr('%s: refused joint %d %s = %r: could not save it to %s (%s), so it '
+                             'would not persist; settings unchanged',
+                             self._ns, joint, name, value, self._path, error)
                 return
             self._config, self._text = new_config, new_text
         rospy.loginfo('joint %d %s = %s saved to %s', joint, name,

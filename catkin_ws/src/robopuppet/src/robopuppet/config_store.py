@@ -43,8 +43,8 @@ def validate(joint_values, joint, name, value):
     Returns:
         value as a float.
     Raises:
-        InvalidSetting: unknown joint or name, a non-finite value, a sign that is not +-1, or a
-            minimum above its maximum.
+        InvalidSetting: unknown joint or name, a non-finite value, a sign that is not +-1, a value
+            outside the setting's bound (settings.SETTINGS), or a minimum above its maximum.
     """
     check_joint(joint)
     if name not in settings.CONFIG_ID:
@@ -54,10 +54,9 @@ def validate(joint_values, joint, name, value):
         value = to_float32(float(value))
     except (TypeError, ValueError):
         raise InvalidSetting('%s: not a number' % where) from None
-    if not math.isfinite(value):
-        raise InvalidSetting('%s: not a finite float32 number' % where)
-    if name in settings.SIGNS and value not in (1.0, -1.0):
-        raise InvalidSetting('%s: a sign must be +1 or -1' % where)
+    reason = implausible(name, value)
+    if reason:
+        raise InvalidSetting('%s: %s' % (where, reason))
     for low, high in settings.RANGE_PAIRS:
         if name == low and value > joint_values[high]:
             raise InvalidSetting('%s: above %s = %s'
@@ -66,6 +65,24 @@ def validate(joint_values, joint, name, value):
             raise InvalidSetting('%s: below %s = %s'
                                  % (where, low, format_value(joint_values[low])))
     return value
+
+
+def implausible(name, value):
+    """Return why float32 `value` cannot be setting `name` on its own, or '' when it can.
+
+    The reasons: not finite, a sign other than +-1, or outside the setting's bound (the
+    message names the bound, its unit and where it comes from).
+    """
+    if not math.isfinite(value):
+        return 'not a finite float32 number'
+    if name in settings.SIGNS and value not in (1.0, -1.0):
+        return 'a sign must be +1 or -1'
+    setting = settings.BY_NAME[name]
+    low, high = to_float32(setting.low), to_float32(setting.high)
+    if not low <= value <= high:
+        return 'outside its bound [%s, %s] %s (%s)' % (
+            format_value(low), format_value(high), setting.unit, setting.bound_source)
+    return ''
 
 
 def to_float32(value):
@@ -185,9 +202,11 @@ def parse(text):
                 problems.append('[%s] %s = %r: not a number, using default %s'
                                 % (sec, name, text_value, format_value(settings.DEFAULTS[name])))
                 continue
-            if not math.isfinite(number) or (name in settings.SIGNS and number not in (1.0, -1.0)):
-                problems.append('[%s] %s = %s: invalid, using default %s'
-                                % (sec, name, text_value, format_value(settings.DEFAULTS[name])))
+            reason = implausible(name, number)
+            if reason:
+                problems.append('[%s] %s = %s: invalid (%s), using default %s'
+                                % (sec, name, text_value, reason,
+                                   format_value(settings.DEFAULTS[name])))
                 continue
             config[joint][name] = number
         for low, high in settings.RANGE_PAIRS:
@@ -203,6 +222,10 @@ def parse(text):
 def render(text, config, only=None):
     """Return `text` with the values of `config` written in, keeping comments and layout.
 
+    Every line that parse ignores is dropped, so that the result parses without problems:
+    torn and other non-ini lines, unknown and repeated sections with what they hold (comments
+    included), repeated and unknown options, options outside any section.
+
     Args:
         text: the current ini text (may be empty or not an ini at all).
         config: {joint: {name: value}}, complete for every joint and setting.
@@ -215,12 +238,20 @@ def render(text, config, only=None):
     if 'section' not in kinds and kinds - {'comment'}:
         text = ''  # not an ini: start afresh (the caller keeps a backup of the original)
     lines = text.splitlines()
+    keep = [True] * len(lines)
     written = set()
-    section_end = {}  # joint -> index after the section's last option line
+    section_last = {}  # joint -> index of its section's last line that holds an option
+    ignoring = False  # inside an ignored section
     for index, kind, match, joint, _ in _entries(text):
-        if joint is None:
+        if kind == 'section':
+            ignoring = joint is None
+        if kind == 'comment':
+            keep[index] = not (ignoring and lines[index].strip())
             continue
-        section_end[joint] = index + 1
+        if joint is None:
+            keep[index] = False
+            continue
+        section_last[joint] = index
         if kind == 'option':
             name = match.group(2)
             written.add((joint, name))
@@ -228,20 +259,22 @@ def render(text, config, only=None):
                 lead, sep, comment = match.group(1), match.group(3), match.group(5) or ''
                 lines[index] = '%s%s%s%s%s' % (lead, name, sep,
                                                format_value(config[joint][name]), comment)
-    # Insert missing options at the end of their section, last sections first so that the
-    # indices of earlier sections stay valid.
-    for joint in sorted(section_end, reverse=True):
-        missing = ['%s = %s' % (name, format_value(config[joint][name]))
-                   for name in settings.NAMES if (joint, name) not in written]
-        lines[section_end[joint]:section_end[joint]] = missing
+    missing = {section_last[joint]: ['%s = %s' % (name, format_value(config[joint][name]))
+                                     for name in settings.NAMES if (joint, name) not in written]
+               for joint in section_last}
+    out = []
+    for index, line in enumerate(lines):
+        if keep[index]:
+            out.append(line)
+        out.extend(missing.get(index, ()))
     for joint in settings.JOINTS:
-        if joint not in section_end:
-            if lines and lines[-1].strip():
-                lines.append('')
-            lines.append('[%s]' % settings.section(joint))
-            lines.extend('%s = %s' % (name, format_value(config[joint][name]))
-                         for name in settings.NAMES)
-    return '\n'.join(lines) + '\n'
+        if joint not in section_last:
+            if out and out[-1].strip():
+                out.append('')
+            out.append('[%s]' % settings.section(joint))
+            out.extend('%s = %s' % (name, format_value(config[joint][name]))
+                       for name in settings.NAMES)
+    return '\n'.join(out) + '\n'
 
 
 def default_text(header=''):

@@ -1,34 +1,54 @@
 """The puppet's joint settings (DESIGN section 5): one table, used by every node.
 
 A setting's index in SETTINGS is its config id on the wire (serial frame 0x30) and its field
-order in the GetConfig response.
+order in the GetConfig response. Its [low, high] is what the puppet's hardware can take (both
+inclusive), and bound_source says where that bound comes from: a value outside it is refused by
+the config node and the GUI and never reaches the puppet.
 """
 import collections
+import math
 
 NUM_JOINTS = 7
 JOINTS = tuple(range(NUM_JOINTS))
 JOINT_NAMES = tuple('joint_%d' % j for j in JOINTS)  # sensor_msgs/JointState names
 
-Setting = collections.namedtuple('Setting', 'name unit default meaning')
+# The hardware behind the bounds (2020 MQP report: power supply, encoders, motors).
+MOTOR_SUPPLY_V = 7.2  # the buck-boost rail of the seven servo motors is set to 7.2 V
+MAX_GAIN = 1e4  # 1e4 V/rad gives the whole 7.2 V at 0.72 mrad, under 2 counts of the finest
+#                 encoder (AS5048B, 14 bit: 0.38 mrad); a larger gain is only bang-bang
+MAX_SPEED_RAD_S = 4 * math.pi  # two turns a second: more than a hand turns a puppet joint
+
+Setting = collections.namedtuple('Setting', 'name unit default meaning low high bound_source')
 
 SETTINGS = (
-    Setting('home_angle', 'rad', 0.0, 'angle zero offset'),
-    Setting('angle_min', 'rad', -1.571, 'minimum angle'),
-    Setting('angle_max', 'rad', 1.571, 'maximum angle'),
-    Setting('velocity_min', 'rad/s', -6.283, 'minimum angular velocity'),
-    Setting('velocity_max', 'rad/s', 6.283, 'maximum angular velocity'),
-    Setting('voltage_min', 'V', -7.2, 'minimum PID voltage'),
-    Setting('voltage_max', 'V', 7.2, 'maximum PID voltage'),
-    Setting('pid_kp', 'V/rad', 0.0, 'P gain'),
-    Setting('pid_ki', 'V/(rad*s)', 0.0, 'I gain'),
-    Setting('pid_kd', 'V/(rad/s)', 0.0, 'D gain'),
-    Setting('sign_angle', '+1/-1', 1.0, 'direction of angle'),
-    Setting('sign_motor', '+1/-1', 1.0, 'direction of motor voltage'),
+    Setting('home_angle', 'rad', 0.0, 'angle zero offset', -2 * math.pi, 2 * math.pi,
+            'within one turn'),
+    Setting('angle_min', 'rad', -1.571, 'minimum angle', -math.pi, math.pi,
+            'the firmware wraps angles into [-pi, pi]'),
+    Setting('angle_max', 'rad', 1.571, 'maximum angle', -math.pi, math.pi,
+            'the firmware wraps angles into [-pi, pi]'),
+    Setting('velocity_min', 'rad/s', -6.283, 'minimum angular velocity',
+            -MAX_SPEED_RAD_S, MAX_SPEED_RAD_S, 'two turns a second, more than a hand turns'),
+    Setting('velocity_max', 'rad/s', 6.283, 'maximum angular velocity',
+            -MAX_SPEED_RAD_S, MAX_SPEED_RAD_S, 'two turns a second, more than a hand turns'),
+    Setting('voltage_min', 'V', -7.2, 'minimum PID voltage', -MOTOR_SUPPLY_V, MOTOR_SUPPLY_V,
+            'the 7.2 V motor supply'),
+    Setting('voltage_max', 'V', 7.2, 'maximum PID voltage', -MOTOR_SUPPLY_V, MOTOR_SUPPLY_V,
+            'the 7.2 V motor supply'),
+    Setting('pid_kp', 'V/rad', 0.0, 'P gain', 0.0, MAX_GAIN,
+            'no positive feedback; 7.2 V within 2 encoder counts'),
+    Setting('pid_ki', 'V/(rad*s)', 0.0, 'I gain', 0.0, MAX_GAIN,
+            'no positive feedback; a sane large bound'),
+    Setting('pid_kd', 'V/(rad/s)', 0.0, 'D gain', 0.0, MAX_GAIN,
+            'no positive feedback; a sane large bound'),
+    Setting('sign_angle', '+1/-1', 1.0, 'direction of angle', -1.0, 1.0, '+1 or -1'),
+    Setting('sign_motor', '+1/-1', 1.0, 'direction of motor voltage', -1.0, 1.0, '+1 or -1'),
 )
 
 NAMES = tuple(s.name for s in SETTINGS)
 CONFIG_ID = {s.name: index for index, s in enumerate(SETTINGS)}
 DEFAULTS = {s.name: s.default for s in SETTINGS}
+BY_NAME = {s.name: s for s in SETTINGS}
 
 # (min, max) pairs: min must not exceed max.
 RANGE_PAIRS = (('angle_min', 'angle_max'),

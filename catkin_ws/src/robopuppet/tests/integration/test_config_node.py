@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""rostest: the real config node serves get_config, persists changes, survives a restart."""
+"""rostest: the real config node serves get_config, persists changes, refuses implausible ones,
+survives a restart."""
 import os
 import shutil
 import tempfile
@@ -7,21 +8,17 @@ import time
 import unittest
 
 import roslaunch
-import rospkg
 import rospy
 import rostest
 from rosgraph_msgs.msg import Log
 from std_msgs.msg import Float32
 
+from config_testing import FIXTURE, ConfigNodeRunner
 from robopuppet import config_store
-from robopuppet_msgs.srv import GetConfig
-
-FIXTURE = os.path.join(rospkg.RosPack().get_path('robopuppet'),
-                       'tests', 'integration', 'fixtures', 'arm_distinct.ini')
-SERVICE = '/puppet/arm_R/get_config'
 
 
-class ConfigNodeTest(unittest.TestCase):
+
+class ConfigNodeTest(ConfigNodeRunner, unittest.TestCase):
 
     def setUp(self):
         self.dir = tempfile.mkdtemp(prefix='robopuppet-config-')
@@ -36,25 +33,6 @@ class ConfigNodeTest(unittest.TestCase):
             self.process.stop()
         self.launch.stop()
         shutil.rmtree(self.dir)
-
-    def start_node(self):
-        node = roslaunch.core.Node(
-            'robopuppet', 'config', name='config_R', output='screen',
-            args='_arm_side:=R _file_name:=%s _seed_file:=%s' % (self.path, FIXTURE))
-        self.process = self.launch.launch(node)
-        rospy.wait_for_service(SERVICE, timeout=20)
-        return rospy.ServiceProxy(SERVICE, GetConfig)
-
-    def stop_node(self):
-        self.process.stop()
-        self.process = None
-        deadline = time.monotonic() + 10
-        while time.monotonic() < deadline:
-            try:
-                rospy.wait_for_service(SERVICE, timeout=0.2)
-            except rospy.ROSException:
-                return
-        self.fail('config node did not stop')
 
     def get(self, proxy, joint):
         response = proxy(joint)
@@ -71,7 +49,7 @@ class ConfigNodeTest(unittest.TestCase):
         self.fail('%s never became %r' % (name, expect))
 
     def test_serves_persists_and_refuses(self):
-        proxy = self.start_node()
+        proxy = self.start_node(self.path)
         self.assertEqual(open(self.path).read(), open(FIXTURE).read(),
                          'the live file starts as a copy of the seed file')
         for joint in range(7):
@@ -88,7 +66,12 @@ class ConfigNodeTest(unittest.TestCase):
         before = open(self.path).read()
         bad = (('angle_min', float('nan'), 'joint 2 angle_min = nan: not a finite'),
                ('sign_motor', 0.5, 'joint 2 sign_motor = 0.5: a sign must be'),
-               ('angle_min', 3.0, 'joint 2 angle_min = 3.0: above angle_max'))
+               ('angle_min', 3.0, 'joint 2 angle_min = 3.0: above angle_max'),
+               # Plausibility bounds (issue 14 item 10): these reached the puppet before.
+               ('voltage_max', 1e20, 'joint 2 voltage_max = 1.0000000200408773e+20: outside '
+                                     'its bound [-7.2, 7.2] V (the 7.2 V motor supply)'),
+               ('pid_kp', 3.4e38, 'joint 2 pid_kp = 3.3999999521443642e+38: outside its bound '
+                                  '[0, 10000] V/rad'))
         warnings = []
         rospy.Subscriber('/rosout', Log, lambda m: warnings.append(m.msg) if m.level == Log.WARN
                          else None)
@@ -112,7 +95,7 @@ class ConfigNodeTest(unittest.TestCase):
         self.assertIn('# Test fixture', after, 'comments survive')
 
         self.stop_node()
-        proxy = self.start_node()
+        proxy = self.start_node(self.path)
         self.assertEqual(self.get(proxy, 3)['pid_kd'], 0.25)
         self.assertEqual(self.get(proxy, 6)['pid_kp'], self.expected[6]['pid_kp'])
 

@@ -103,7 +103,8 @@ class GuiConfigTest(unittest.TestCase):
         before = self.client.get_config(JOINT)
         for name, text, words in (('pid_ki', 'twelve', 'not a number'),
                                   ('sign_motor', '0', 'sign'),
-                                  ('voltage_min', '9', 'above voltage_max')):
+                                  ('voltage_min', '9', 'outside its bound'),
+                                  ('angle_max', '-3', 'below angle_min')):
             tab = self.tab()
             tab.fields[name].setText(text)
             tab.set_button.click()

@@ -70,12 +70,13 @@ def test_render_only_touches_the_named_entry():
     ('sign_motor', 0.0, 'sign must be'),
     ('angle_min', 2.0, 'above angle_max'),
     ('velocity_max', -7.0, 'below velocity_min'),
-    ('voltage_min', 8.0, 'above voltage_max'),
+    ('voltage_min', 7.0, 'above voltage_max'),
     ('no_such_setting', 1.0, 'unknown setting'),
     ('pid_kp', 'abc', 'not a number'),
 ])
 def test_validate_refuses_bad_values_naming_joint_setting_and_value(name, value, message):
     values = config_store.defaults()[4]
+    values['voltage_max'] = 6.5
     with pytest.raises(config_store.InvalidSetting) as error:
         config_store.validate(values, 4, name, value)
     assert message in str(error.value)
@@ -125,7 +126,8 @@ def test_half_written_file_is_repaired_with_backup(tmp_path):
     full = config_store.default_text().replace('pid_kp = 0', 'pid_kp = 4', 1)
     torn = full[:full.index('[joint_2]') + 40]  # cut in the middle of joint 2
     path.write_text(torn)
-    config, text, notes, problems = config_file.load_or_create(str(path), '', 'stamp')
+    config, text, notes, problems, unwritable = config_file.load_or_create(str(path), '', 'stamp')
+    assert unwritable == ''
     assert config[0]['pid_kp'] == 4.0
     assert any('[joint_6] missing section' in p for p in problems)
     assert all(p.startswith(str(path)) for p in problems)
@@ -139,7 +141,7 @@ def test_missing_file_is_created_from_seed(tmp_path):
     seed = tmp_path / 'seed.ini'
     seed.write_text(config_store.default_text().replace('sign_motor = 1', 'sign_motor = -1'))
     path = tmp_path / 'home' / 'arm_L.ini'
-    config, _, notes, problems = config_file.load_or_create(str(path), str(seed), 'x')
+    config, _, notes, problems, _ = config_file.load_or_create(str(path), str(seed), 'x')
     assert problems == []
     assert config[6]['sign_motor'] == -1.0
     assert path.read_text() == seed.read_text()
@@ -148,7 +150,7 @@ def test_missing_file_is_created_from_seed(tmp_path):
 
 def test_missing_file_without_seed_gets_defaults(tmp_path):
     path = tmp_path / 'arm_L.ini'
-    config, _, _, problems = config_file.load_or_create(str(path), '', 'x')
+    config, _, _, problems, _ = config_file.load_or_create(str(path), '', 'x')
     assert problems == [] and config == config_store.defaults()
     assert config_store.parse(path.read_text()) == (config, [])
 
@@ -182,7 +184,7 @@ def test_kill_during_writes_never_leaves_a_torn_file(tmp_path):
         i = 0
         while True:
             i += 1
-            config[i % 7]['pid_kp'] = float(i)
+            config[i % 7]['pid_kp'] = float(i % 9000)  # within the gain bound
             config_file.write_atomic(sys.argv[1], config_store.render('', config))
             if i == 20:
                 print('writing', flush=True)
@@ -199,7 +201,7 @@ def test_kill_during_writes_never_leaves_a_torn_file(tmp_path):
         assert max(values['pid_kp'] for values in config.values()) >= 14
     # The next start tidies what the kills left: the file itself stays as it is.
     before = path.read_text()
-    _, _, notes, _ = config_file.load_or_create(str(path), '', 'x')
+    notes = config_file.load_or_create(str(path), '', 'x').notes
     assert path.read_text() == before
     assert sorted(os.listdir(tmp_path)) == ['arm_R.ini']
     assert all('interrupted write' in note for note in notes)
@@ -231,7 +233,7 @@ def test_temporaries_of_an_interrupted_write_are_removed_at_start(tmp_path):
     path.write_text(config_store.default_text())
     (tmp_path / '.arm_R.ini.k3j2.tmp').write_text('[joint_0]\npid_')
     (tmp_path / '.arm_L.ini.k3j2.tmp').write_text('not ours')
-    _, _, notes, problems = config_file.load_or_create(str(path), '', 'x')
+    _, _, notes, problems, _ = config_file.load_or_create(str(path), '', 'x')
     assert problems == []
     assert sorted(os.listdir(tmp_path)) == ['.arm_L.ini.k3j2.tmp', 'arm_R.ini']
     assert notes == ['removed %s, left by an interrupted write' % (tmp_path / '.arm_R.ini.k3j2.tmp')]

@@ -1,0 +1,77 @@
+"""Plausibility bounds of the joint settings (issue 14 item 10): what the hardware can take."""
+import math
+import os
+
+import pytest
+
+from robopuppet import config_store, settings
+from robopuppet.gui import settings_form
+
+CONFIG_DIR = os.path.join(os.path.dirname(__file__), '..', '..', 'config')
+
+
+def test_every_setting_has_a_bound_that_holds_its_default_and_says_where_it_comes_from():
+    for setting in settings.SETTINGS:
+        assert setting.low < setting.high
+        assert setting.low <= setting.default <= setting.high, setting.name
+        assert setting.bound_source.strip(), setting.name
+
+
+@pytest.mark.parametrize('name', ['arm_L.ini', 'arm_R.ini'])
+def test_the_shipped_files_are_within_the_bounds(name):
+    with open(os.path.join(CONFIG_DIR, name)) as ini:
+        _, problems = config_store.parse(ini.read())
+    assert problems == []
+
+
+@pytest.mark.parametrize('name, value, bound', [
+    ('voltage_max', 1e20, '[-7.2, 7.2] V (the 7.2 V motor supply)'),
+    ('voltage_min', -7.5, '[-7.2, 7.2] V'),
+    ('pid_kp', 3.4e38, '[0, 10000] V/rad'),
+    ('pid_kp', -1.0, '[0, 10000] V/rad'),
+    ('pid_ki', 1e5, '[0, 10000] V/(rad*s)'),
+    ('pid_kd', -0.5, '[0, 10000] V/(rad/s)'),
+    ('angle_max', 3.2, '[-3.1415927, 3.1415927] rad'),
+    ('angle_min', -4.0, '[-3.1415927, 3.1415927] rad'),
+    ('home_angle', 7.0, '[-6.2831855, 6.2831855] rad'),
+    ('velocity_max', 13.0, '[-12.566371, 12.566371] rad/s'),
+    ('velocity_min', -100.0, '[-12.566371, 12.566371] rad/s'),
+])
+def test_a_value_outside_its_bound_is_refused_naming_joint_setting_value_and_bound(
+        name, value, bound):
+    with pytest.raises(config_store.InvalidSetting) as error:
+        config_store.validate(config_store.defaults()[5], 5, name, value)
+    message = str(error.value)
+    assert message.startswith('joint 5 %s = %r: outside its bound' % (name, value)), message
+    assert bound in message
+
+
+@pytest.mark.parametrize('name, value', [
+    ('angle_max', math.pi), ('angle_min', -math.pi), ('home_angle', -2 * math.pi),
+    ('voltage_max', 7.2), ('voltage_min', -7.2), ('pid_kp', 1e4), ('pid_kd', 0.0),
+    ('velocity_max', 4 * math.pi), ('sign_motor', -1.0),
+])
+def test_a_value_on_its_bound_is_accepted(name, value):
+    assert config_store.validate(config_store.defaults()[0], 0, name, value) == \
+        config_store.to_float32(value)
+
+
+def test_an_out_of_bound_value_in_the_file_is_repaired_like_a_damaged_entry():
+    text = config_store.default_text().replace('voltage_max = 7.2', 'voltage_max = 1e20', 1)
+    text = text.replace('pid_kp = 0', 'pid_kp = 3.4e38', 1)
+    config, problems = config_store.parse(text)
+    assert config == config_store.defaults()
+    assert any(p.startswith('[joint_0] voltage_max = 1e20: invalid (outside its bound')
+               and p.endswith('using default 7.2') for p in problems), problems
+    assert any(p.startswith('[joint_0] pid_kp = 3.4e38: invalid') for p in problems), problems
+    repaired = config_store.render(text, config)
+    assert config_store.parse(repaired) == (config, []) and '1e20' not in repaired
+
+
+def test_the_gui_refuses_what_the_config_node_refuses():
+    texts = {name: config_store.format_value(value) for name, value in settings.DEFAULTS.items()}
+    texts.update(voltage_max='1e20', pid_kp='3.4e38')
+    with pytest.raises(settings_form.EntryError) as error:
+        settings_form.parse_form(2, texts)
+    assert 'joint 2 voltage_max' in str(error.value) and 'outside its bound' in str(error.value)
+    assert 'joint 2 pid_kp' in str(error.value)
