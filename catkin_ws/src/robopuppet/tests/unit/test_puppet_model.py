@@ -1,12 +1,16 @@
-"""Unit tests of robopuppet.puppet_model: the simulated firmware and arm."""
+"""Unit tests of robopuppet.puppet_model: the simulated 2020 firmware and arm."""
 import math
 
 import pytest
 
 from robopuppet import codec, settings
-from robopuppet.puppet_model import PuppetFirmware, REST_POSE_RAD, QUAD_JOINTS
+from robopuppet.puppet_model import (POWER_ON_SETTINGS, PuppetFirmware, QUAD_JOINTS,
+                                     REST_POSE_RAD)
 
 ID = settings.CONFIG_ID
+# Limits a host loads before it expects the puppet to move or hold (the power-on ones are
+# velocity +-pi/4 rad/s and voltage 0 V).
+LOADED = dict(velocity_min=-6.283, velocity_max=6.283, voltage_min=-7.2, voltage_max=7.2)
 
 
 def run(firmware, start_s, seconds, step_s=0.01):
@@ -28,10 +32,19 @@ def configure(firmware, joint, **values):
         firmware.handle(codec.JointConfig(joint, ID[name], value))
 
 
+def loaded(**values):
+    """Return a firmware with LOADED limits (and values) on every joint."""
+    firmware = PuppetFirmware()
+    for joint in settings.JOINTS:
+        configure(firmware, joint, **dict(LOADED, **values))
+    return firmware
+
+
 def test_heartbeat_1hz_and_state_sets_at_the_state_rate_in_order():
     firmware = PuppetFirmware(state_rate_hz=20.0)
-    _, out = run(firmware, 0.0, 3.0)
-    assert sum(isinstance(m, codec.Heartbeat) for m in out) in (3, 4)
+    assert firmware.advance(0.0) == []  # power-on: nothing due yet
+    _, out = run(firmware, 0.0, 3.05)
+    assert sum(isinstance(m, codec.Heartbeat) for m in out) == 3  # at 1, 2 and 3 s
     sets = [out[i:i + 12] for i, m in enumerate(out)
             if isinstance(m, codec.JointState) and m.joint == 0]
     assert 59 <= len(sets) <= 61
@@ -41,7 +54,7 @@ def test_heartbeat_1hz_and_state_sets_at_the_state_rate_in_order():
 
 
 def test_rest_pose_quad_joints_uncalibrated_until_index_then_mechanical_angle():
-    firmware = PuppetFirmware()
+    firmware = loaded()
     t, out = run(firmware, 0.0, 0.5)
     last = {m.joint: m for m in states(out)}
     for joint in settings.JOINTS:
@@ -60,14 +73,72 @@ def test_rest_pose_quad_joints_uncalibrated_until_index_then_mechanical_angle():
 
 def test_home_and_sign_shape_the_reported_angle():
     firmware = PuppetFirmware()
-    configure(firmware, 1, home_angle=0.25, sign_angle=-1.0)
+    configure(firmware, 1, sign_angle=-1.0, home_angle=0.25)  # sign first, as hosts must
     t, out = run(firmware, 0.0, 0.5)
     joint1 = [m for m in states(out) if m.joint == 1][-1]
-    assert joint1.angle_rad == pytest.approx(0.25 - REST_POSE_RAD[1], abs=0.05)
+    # sign x wrap(raw - home x sign): the firmware subtracts home (the old model added it).
+    mechanical = firmware.arm.angle_rad[1]
+    assert joint1.angle_rad == pytest.approx(-mechanical - 0.25, abs=1e-3)
+
+
+def test_home_is_stored_with_the_sign_in_force_when_it_arrives():
+    firmware = PuppetFirmware()
+    configure(firmware, 1, home_angle=0.25, sign_angle=-1.0)  # home first: stored as +0.25
+    t, out = run(firmware, 0.0, 0.5)
+    first = [m for m in states(out) if m.joint == 1][-1].angle_rad
+    mechanical = firmware.arm.angle_rad[1]
+    assert first == pytest.approx(-(mechanical - 0.25), abs=1e-3)
+    configure(firmware, 1, home_angle=0.25, sign_angle=-1.0)  # the same load again
+    t, out = run(firmware, t, 1.0)
+    second = [m for m in states(out) if m.joint == 1][-1].angle_rad
+    assert second == pytest.approx(-mechanical - 0.25, abs=1e-3)  # a reload moved it
+
+
+def test_quadrature_home_applies_before_calibration_to_the_power_on_count():
+    firmware = PuppetFirmware()
+    configure(firmware, 0, home_angle=0.1)
+    firmware.set_hand({0: REST_POSE_RAD[0] + 0.2})  # turn it, away from its index mark
+    t, out = run(firmware, 0.0, 1.0)
+    last = [m for m in states(out) if m.joint == 0][-1]
+    assert last.status == codec.UNCALIBRATED
+    assert last.angle_rad == pytest.approx(0.2 - 0.1, abs=2e-3)  # counted from power-on
+    firmware.set_hand({0: -0.3})  # through the index mark at 0
+    t, out = run(firmware, t, 2.0)
+    last = [m for m in states(out) if m.joint == 0][-1]
+    assert last.status == codec.WORKING
+    assert last.angle_rad == pytest.approx(-0.3 - 0.1, abs=2e-3)
+
+
+def test_disconnected_hall_encoder_reports_disconnected_and_zero():
+    firmware = PuppetFirmware(hall_disconnected=[3])
+    configure(firmware, 3, sign_angle=-1.0, home_angle=0.4)
+    _, out = run(firmware, 0.0, 0.5)
+    last = {m.joint: m for m in states(out)}
+    assert last[3].status == codec.DISCONNECTED and last[3].angle_rad == 0.0
+    assert last[1].status == last[5].status == codec.WORKING
+    with pytest.raises(ValueError):
+        PuppetFirmware(hall_disconnected=[2])
+
+
+def test_power_on_settings_limit_speed_and_voltage_until_loaded():
+    firmware = PuppetFirmware()
+    assert firmware.config[2] == POWER_ON_SETTINGS
+    assert POWER_ON_SETTINGS['velocity_max'] == pytest.approx(math.pi / 4)
+    assert POWER_ON_SETTINGS['voltage_min'] == POWER_ON_SETTINGS['voltage_max'] == 0.0
+    configure(firmware, 1, pid_kp=20.0)
+    t, _ = run(firmware, 0.0, 0.3)
+    firmware.set_hand({1: REST_POSE_RAD[1] - 1.0})
+    t, out = run(firmware, t, 0.5)
+    angles = [m.angle_rad for m in states(out) if m.joint == 1]
+    steps = [a - b for a, b in zip(angles, angles[1:])]
+    assert max(steps) <= math.pi / 4 * 0.1 + 1e-3  # 10 Hz states, pi/4 rad/s
+    firmware.handle(codec.Opmode(codec.HOLD))
+    run(firmware, t, 0.5)
+    assert firmware.voltage_v[1] == 0.0  # gain 20, but the voltage limits are still 0 V
 
 
 def test_angle_clamp_and_rate_limit():
-    firmware = PuppetFirmware()
+    firmware = loaded()
     configure(firmware, 3, angle_max=0.95, velocity_max=0.5, velocity_min=-0.5)
     t, _ = run(firmware, 0.0, 0.2)
     firmware.set_hand({3: 1.5})
@@ -89,10 +160,10 @@ def test_limp_follows_the_hand_with_no_voltage():
 
 def hold_released(kp, seconds=2.0):
     """Enter hold at rest, let go of the arm; return joint 1's angle drift and voltage."""
-    firmware = PuppetFirmware()
-    for joint in settings.JOINTS:
-        configure(firmware, joint, pid_kp=kp, pid_ki=kp / 2, pid_kd=kp / 20)
+    firmware = loaded(pid_kp=kp, pid_ki=kp / 2, pid_kd=kp / 20)
     t, _ = run(firmware, 0.0, 0.3)
+    for joint in settings.JOINTS:  # setpoints first: hold keeps the ones it has
+        firmware.handle(codec.JointSetpoint(joint, firmware.angle_rad[joint]))
     firmware.handle(codec.Opmode(codec.HOLD))
     firmware.set_hand({j: math.nan for j in settings.JOINTS})
     _, out = run(firmware, t, seconds)
@@ -111,7 +182,7 @@ def test_pid_gains_matter_in_hold():
 
 
 def test_setpoint_moves_a_released_joint_in_hold_and_is_clamped():
-    firmware = PuppetFirmware()
+    firmware = loaded()
     configure(firmware, 3, pid_kp=20.0, pid_ki=10.0, pid_kd=1.0, angle_max=1.2)
     t, _ = run(firmware, 0.0, 0.3)
     firmware.handle(codec.Opmode(codec.HOLD))
@@ -123,9 +194,10 @@ def test_setpoint_moves_a_released_joint_in_hold_and_is_clamped():
 
 
 def test_firm_hand_wins_against_hold():
-    firmware = PuppetFirmware()
+    firmware = loaded()
     configure(firmware, 1, pid_kp=20.0, pid_ki=10.0)
     t, _ = run(firmware, 0.0, 0.3)
+    firmware.handle(codec.JointSetpoint(1, REST_POSE_RAD[1]))
     firmware.handle(codec.Opmode(codec.HOLD))
     firmware.set_hand({1: -0.5})
     _, out = run(firmware, t, 3.0)
@@ -134,17 +206,54 @@ def test_firm_hand_wins_against_hold():
     assert last.voltage_v == pytest.approx(7.2, abs=1e-3)  # the motor pushes back, saturated
 
 
-def test_limp_zeroes_voltage_and_hold_latches_current_angles():
-    firmware = PuppetFirmware()
-    configure(firmware, 1, pid_kp=5.0)
+def test_bare_hold_keeps_setpoint_zero_and_drives_toward_it():
+    firmware = loaded(pid_kp=20.0)
     t, _ = run(firmware, 0.0, 0.3)
+    firmware.handle(codec.Opmode(codec.HOLD))  # no setpoints: the 2020 host's GUI did this
+    assert firmware.setpoint_rad == [0.0] * settings.NUM_JOINTS
+    t, _ = run(firmware, t, 0.1)
+    ticks = firmware.take_control_ticks()
+    assert 4 <= len(ticks) <= 6  # 50 Hz, in hold only
+    assert ticks[0].setpoint_rad == (0.0,) * settings.NUM_JOINTS
+    assert ticks[0].voltage_v[1] == pytest.approx(-7.2)  # joint 1 at 0.5 rad pushed to 0
+    assert firmware.take_control_ticks() == []
+
+
+def test_limp_zeroes_setpoints_and_voltages_and_hold_keeps_setpoints():
+    firmware = loaded(pid_kp=5.0)
+    t, _ = run(firmware, 0.0, 0.3)
+    firmware.handle(codec.JointSetpoint(1, 0.4))
     firmware.handle(codec.Opmode(codec.HOLD))
-    assert firmware.setpoint_rad == firmware.angle_rad
+    assert firmware.setpoint_rad[1] == pytest.approx(0.4)
     firmware.set_hand({1: 0.0})
     t, _ = run(firmware, t, 1.0)
     assert firmware.voltage_v[1] != 0.0
-    firmware.handle(codec.Opmode(codec.LIMP))
+    firmware.handle(codec.Opmode(7))  # any byte but 0x01 is limp
+    assert firmware.opmode == codec.LIMP
     assert firmware.voltage_v == [0.0] * settings.NUM_JOINTS
+    assert firmware.setpoint_rad == [0.0] * settings.NUM_JOINTS
+    firmware.handle(codec.JointSetpoint(2, 0.1))
+    firmware.handle(codec.Opmode(codec.HOLD))
+    assert firmware.setpoint_rad == [0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0.0]
+    run(firmware, t, 0.5)
+    assert firmware.take_control_ticks()
+    assert firmware.take_control_ticks() == []
+
+
+def test_unchecked_fields_never_crash_the_model():
+    firmware = PuppetFirmware()
+    firmware.configure(9, ID['pid_kp'], 1.0)      # joint out of range: ignored, counted
+    firmware.set_setpoint(200, 0.5)
+    assert firmware.ignored_frames == 2
+    firmware.configure(2, 12, 5.0)                 # config id above 11: ignored
+    assert firmware.config[2] == POWER_ON_SETTINGS
+    firmware.configure(2, ID['home_angle'], math.nan)
+    firmware.configure(4, ID['voltage_max'], math.inf)
+    firmware.configure(4, ID['pid_kp'], math.nan)
+    firmware.set_opmode(codec.HOLD)
+    _, out = run(firmware, 0.0, 0.5)
+    assert math.isnan([m for m in states(out) if m.joint == 2][-1].angle_rad)
+    assert all(math.isfinite(a) for a in firmware.arm.angle_rad)
 
 
 def test_operator_buttons_and_grippers():
