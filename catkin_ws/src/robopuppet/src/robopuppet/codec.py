@@ -108,7 +108,7 @@ class Decoder:
     MAX_FRAME_LEN - 1 bytes stay buffered between calls.
 
     Counters (totals since construction): frames, dropped_bytes, bad_checksums, unknown_ids,
-    invalid_frames.
+    invalid_frames; last_invalid says what was wrong with the newest invalid frame.
     """
 
     def __init__(self, message_types=MESSAGE_TYPES):
@@ -122,6 +122,8 @@ class Decoder:
         self.bad_checksums = 0
         self.unknown_ids = 0
         self.invalid_frames = 0
+        self.last_invalid = ''
+        self._skipped = 0  # bytes dropped since the last frame returned
 
     @property
     def pending(self):
@@ -130,12 +132,23 @@ class Decoder:
 
     def feed(self, data):
         """Add received bytes; return the list of messages completed by them, in order."""
+        return [message for message, _ in self.feed_frames(data)]
+
+    def feed_frames(self, data):
+        """Add received bytes; return (message, skipped) pairs completed by them, in order.
+
+        skipped is the number of bytes dropped (garbage, or frames refused for an unknown id, a
+        bad checksum or invalid fields) between the previous frame returned and this one; 0
+        means the frame sits on a clean frame boundary. It does not depend on how the stream
+        is split into chunks.
+        """
         buf = self._buffer
         buf += data
         types = self._types
-        messages = []
+        frames = []
         pos = 0
         end = len(buf)
+        dropped_before = self.dropped_bytes
         while pos < end:
             start = buf.find(START, pos)
             if start < 0:
@@ -162,13 +175,19 @@ class Decoder:
                 pos += 1
                 continue
             values = message_type.STRUCT.unpack_from(buf, pos + 2)
-            if _field_problem(message_type, values):
+            problem = _field_problem(message_type, values)
+            if problem:
                 self.invalid_frames += 1
+                self.last_invalid = problem
                 self.dropped_bytes += 1
                 pos += 1
                 continue
-            messages.append(message_type._make(values))
+            skipped = self._skipped + self.dropped_bytes - dropped_before
+            frames.append((message_type._make(values), skipped))
+            self._skipped = 0
+            dropped_before = self.dropped_bytes
             self.frames += 1
             pos = stop + 1
+        self._skipped += self.dropped_bytes - dropped_before
         del buf[:pos]
-        return messages
+        return frames

@@ -73,20 +73,27 @@ class SerialLink:
             port.cancel_read()
 
     def write(self, data):
-        """Write bytes to the port; return False (and count an error) if that failed."""
+        """Write bytes to the port as one write; return True only if the port took all of them.
+
+        A failure or a short write (the driver took less) counts as a write error. Callers that
+        must keep frames whole on the device side write whole frames per call.
+        """
         with self._write_lock:
             port = self._serial
             if port is None:
                 return False
             try:
-                port.write(data)
-                return True
-            except (serial.SerialException, OSError) as error:
-                self.write_errors += 1
-                if self.write_errors == 1 or self.write_errors % 100 == 0:
-                    self._log_warn('write to %s failed (%d so far): %s'
-                                   % (self.port, self.write_errors, error))
-                return False
+                written = port.write(data)
+                if written is None or written == len(data):
+                    return True
+                error = 'the port took %d of %d bytes' % (written, len(data))
+            except (serial.SerialException, OSError) as exception:
+                error = exception
+            self.write_errors += 1
+            if self.write_errors == 1 or self.write_errors % 100 == 0:
+                self._log_warn('write to %s failed (%d so far): %s'
+                               % (self.port, self.write_errors, error))
+            return False
 
     def _run(self):
         # The problem logged last: a port that stays missing, or is lost and then missing while

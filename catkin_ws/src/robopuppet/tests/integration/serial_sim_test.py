@@ -81,10 +81,19 @@ class SerialSimTest(unittest.TestCase):
 
     def test_1_no_joint_states_until_settings_loaded_then_84_settings_and_limp(self):
         self.assertIsNone(self.config, 'test_1 must run before config_L starts')
-        # The link works: heartbeats come through, and an opmode reaches the device.
+        # The link works: heartbeats come through, and an opmode reaches the device. Without
+        # angles the node passes a hold on only after seven setpoints (the firmware holds the
+        # setpoints it has); setpoints and opmode travel on separate topics, so ask again.
         rospy.wait_for_message(NS + '/heartbeat', Empty, 10.0)
-        self.pub_opmode.publish(String('hold'))
-        self.assertIsNotNone(wait_for(lambda: self.watch.device_opmode == 'hold', 5.0))
+        setpoints = [rospy.Publisher('%s/joint_%d/setpoint' % (NS, j), Float32, queue_size=1,
+                                     latch=True) for j in settings.JOINTS]
+        for pub in setpoints:
+            pub.publish(Float32(0.0))
+
+        def hold():
+            self.pub_opmode.publish(String('hold'))
+            return wait_for(lambda: self.watch.device_opmode == 'hold', 0.5)
+        self.assertIsNotNone(wait_for(hold, 10.0))
         self.assertIsNotNone(wait_for(lambda: 'waiting for settings' in self.watch.diagnostics.get(
             'message', ''), 5.0), self.watch.diagnostics)
         time.sleep(2.0)  # about 100 state sets at 50 Hz
@@ -113,14 +122,15 @@ class SerialSimTest(unittest.TestCase):
         self.assertIsNotNone(wait_for(lambda: self.device_config() == self.seed, 20.0))
         home = self.seed[ID['home_angle']::len(settings.NAMES)]
         sign = self.seed[ID['sign_angle']::len(settings.NAMES)]
-        rest = [wrap(h + s * a) for h, s, a in zip(home, sign, REST_POSE_RAD)]
+        # The firmware's formula, signs sent before home: sign x wrap(raw - home x sign).
+        rest = [wrap(s * a - h) for h, s, a in zip(home, sign, REST_POSE_RAD)]
         # Absolute encoders report the rest pose as soon as the settings are in (rate-limited).
         absolute = (1, 3, 5)
         self.assertIsNotNone(wait_for(lambda: close(
             [self.position()[j] for j in absolute],
             [rest[j] for j in absolute], 0.05), 5.0))
         self.pub_hand.publish(JointState(name=settings.JOINT_NAMES, position=HAND_RAD))
-        expected = [wrap(h + s * a) for h, s, a in zip(home, sign, HAND_RAD)]
+        expected = [wrap(s * a - h) for h, s, a in zip(home, sign, HAND_RAD)]
         took = wait_for(lambda: close(self.position(), expected, 0.05), 10.0)
         self.assertIsNotNone(took, 'joint_states %s, expected %s'
                              % (self.position(), expected))

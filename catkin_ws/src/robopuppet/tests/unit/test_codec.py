@@ -129,6 +129,28 @@ def test_out_of_range_fields_are_dropped_as_invalid():
     assert decoder.invalid_frames == 2
 
 
+def test_invalid_frames_say_what_was_wrong():
+    decoder = codec.Decoder()
+    assert decoder.feed(bytes((0xA5, 0x41, 5, 5))) == []
+    assert decoder.last_invalid == 'Buttons.button = 5 is outside 0..4'
+
+
+def test_feed_frames_counts_the_bytes_skipped_before_each_frame():
+    beat = codec.encode(codec.Heartbeat())
+    bad = bytearray(codec.encode(codec.Gripper(1, 0.5)))
+    bad[-1] ^= 0x01
+    stream = beat + beat + b'\x01\x02' + beat + bytes(bad) + beat
+    expected = [(codec.Heartbeat(), 0), (codec.Heartbeat(), 0), (codec.Heartbeat(), 2),
+                (codec.Heartbeat(), len(bad))]
+    for size in (None, 1, 2, 7):
+        decoder = codec.Decoder()
+        if size is None:
+            assert decoder.feed_frames(stream) == expected
+        else:
+            assert [f for i in range(0, len(stream), size)
+                    for f in decoder.feed_frames(stream[i:i + size])] == expected
+
+
 @pytest.mark.parametrize('message', [codec.JointState(7, 0, 0.0, 0.0), codec.Opmode(2),
                                      codec.JointSetpoint(0, math.inf),
                                      codec.JointConfig(0, 12, 1.0), codec.Buttons(5),

@@ -1,4 +1,6 @@
 """Unit tests of robopuppet.device_settings with a fake get_config and link (no ROS master)."""
+import math
+import threading
 import time
 
 import rospy
@@ -10,12 +12,14 @@ ID = settings.CONFIG_ID
 
 
 class FakeConfigNode:
-    """Serves get_config from a dict; can be down."""
+    """Serves get_config from a dict; can be down, or hung (a call blocks until released)."""
 
     def __init__(self):
         self.config = config_store.defaults()
         self.config[3]['home_angle'] = 0.5
         self.up = True
+        self.running = threading.Event()  # cleared: hung, like a SIGSTOPped node
+        self.running.set()
         self.calls = 0
 
     def wait_for_service(self, timeout):
@@ -23,6 +27,7 @@ class FakeConfigNode:
             raise rospy.ROSException('timeout exceeded while waiting for service')
 
     def __call__(self, joint):
+        self.running.wait()
         self.calls += 1
         return GetConfigResponse(**self.config[joint])
 
@@ -33,12 +38,14 @@ class Device:
     def __init__(self):
         self.decoder = codec.Decoder(codec.types_sent_by(codec.TO_DEVICE))
         self.received = []
+        self.writes = []  # (monotonic time, data) of every write
         self.connected = True
         self.on_write = None
 
     def write(self, data):
         if not self.connected:
             return False
+        self.writes.append((time.monotonic(), data))
         self.received.extend(self.decoder.feed(data))
         if self.on_write is not None:
             self.on_write()
@@ -54,6 +61,7 @@ def make():
     node = FakeConfigNode()
     sync = device_settings.DeviceSettings('/puppet/arm_L', device.write, '/serial_L', 'pty')
     sync._get_config = node  # pylint: disable=protected-access
+    sync._caller = device_settings.TimedCaller(0.3, 2)  # pylint: disable=protected-access
     return sync, device, node
 
 
@@ -144,3 +152,149 @@ def test_a_marked_joint_is_read_again_later_for_a_slow_config_node():
     node.config[5]['sign_motor'] = -1.0  # stored only after the first read
     assert step_until(sync, lambda: device.received, device_settings.RESYNC_AFTER_S[1] + 1.0)
     assert device.take() == [codec.JointConfig(5, ID['sign_motor'], -1.0)]
+
+
+class FirmwareAngles:
+    """The 2020 firmware's angle (DESIGN section 3): sign_angle x wrap(raw - stored_home), where
+    stored_home = home_angle x the sign_angle in force when the home frame arrived."""
+
+    def __init__(self):
+        self.sign = [1.0] * settings.NUM_JOINTS
+        self.stored_home = [0.0] * settings.NUM_JOINTS
+
+    def feed(self, messages):
+        for m in messages:
+            if isinstance(m, codec.JointConfig) and m.config_id == ID['sign_angle']:
+                self.sign[m.joint] = m.value
+            elif isinstance(m, codec.JointConfig) and m.config_id == ID['home_angle']:
+                self.stored_home[m.joint] = m.value * self.sign[m.joint]
+
+    def angle(self, joint, raw_rad):
+        wrapped = math.remainder(raw_rad - self.stored_home[joint], 2 * math.pi)
+        return self.sign[joint] * wrapped
+
+
+def loaded(sync, device):
+    sync.unload(load=True)
+    sync.step(True)
+    assert sync.loaded
+    return device.take()
+
+
+def test_signs_go_before_home_angle_for_every_joint():
+    sync, device, _ = make()
+    received = loaded(sync, device)
+    for joint in settings.JOINTS:
+        ids = [m.config_id for m in received
+               if isinstance(m, codec.JointConfig) and m.joint == joint]
+        assert ids.index(ID['sign_angle']) < ids.index(ID['home_angle'])
+        assert ids.index(ID['sign_motor']) < ids.index(ID['home_angle'])
+
+
+def test_loading_the_same_settings_twice_gives_the_same_angles():
+    sync, device, node = make()
+    node.config[1].update(home_angle=-0.22, sign_angle=-1.0)
+    firmware = FirmwareAngles()
+    firmware.feed(loaded(sync, device))
+    first = firmware.angle(1, 0.5)
+    firmware.feed(loaded(sync, device))  # a reconnect: the device still holds sign -1
+    assert firmware.angle(1, 0.5) == first
+    assert abs(first - (-1.0) * (0.5 - 0.22)) < 1e-6
+
+
+def test_a_change_of_sign_angle_alone_re_sends_home_angle_after_it():
+    sync, device, node = make()
+    node.config[1].update(home_angle=-0.25, sign_angle=-1.0)
+    firmware = FirmwareAngles()
+    firmware.feed(loaded(sync, device))
+    node.config[1]['sign_angle'] = 1.0  # the GUI changes the sign only
+    sync.mark(1)
+    assert step_until(sync, lambda: device.received)
+    sent = device.take()
+    assert sent == [codec.JointConfig(1, ID['sign_angle'], 1.0),
+                    codec.JointConfig(1, ID['home_angle'], -0.25)]
+    firmware.feed(sent)
+    fresh = FirmwareAngles()
+    fresh.feed(loaded(sync, device))
+    assert firmware.angle(1, 0.5) == fresh.angle(1, 0.5)
+
+
+def test_a_load_is_whole_frames_in_writes_of_at_most_64_bytes_with_pauses():
+    sync, device, _ = make()
+    loaded(sync, device)
+    decoder = codec.Decoder(codec.types_sent_by(codec.TO_DEVICE))
+    for _, data in device.writes:
+        assert len(data) <= 64
+        decoder.feed(data)
+        assert decoder.pending == 0  # the write ends on a frame boundary
+    assert decoder.frames == 85 and decoder.dropped_bytes == 0
+    gaps = [b[0] - a[0] for a, b in zip(device.writes, device.writes[1:])]
+    assert len(gaps) >= 12 and min(gaps) >= 0.0015
+
+
+def test_the_epoch_rises_at_unload_and_after_the_loads_limp():
+    sync, device, _ = make()
+    epochs = []
+    device.on_write = lambda: epochs.append(sync.epoch)
+    start = sync.epoch
+    sync.unload(load=True)
+    assert sync.epoch == start + 1
+    sync.step(True)
+    assert epochs[-1] == start + 1  # the limp frame is written before the rise
+    assert sync.epoch == start + 2
+
+
+def test_a_hung_config_node_costs_each_step_at_most_the_timeout_and_a_reload_follows():
+    sync, device, node = make()
+    node.running.clear()  # SIGSTOP
+    sync.unload(load=True)  # a replug during the freeze
+    for _ in range(4):  # the first two calls hang; then no more are started
+        began = time.monotonic()
+        sync.step(True)
+        assert time.monotonic() - began < 0.3 + 0.2
+        assert not sync.loaded and device.take() == []
+        assert sync.config_status == device_settings.UNREACHABLE
+        sync._next_load_s = 0.0  # pylint: disable=protected-access  # retry at once
+    assert sync.stuck_calls == 2
+    node.running.set()  # SIGCONT: the hanging calls return
+    assert step_until(sync, lambda: sync.loaded)
+    assert len(device.take()) == 85
+    assert sync.stuck_calls == 0 and sync.config_status == device_settings.REACHABLE
+
+
+def test_an_absent_config_node_is_not_running_and_a_loaded_node_probes_it():
+    sync, device, node = make()
+    node.up = False
+    sync.unload(load=True)
+    sync.step(True)
+    assert sync.config_status == device_settings.ABSENT
+    node.up = True
+    assert step_until(sync, lambda: sync.loaded)
+    node.running.clear()  # hangs while idle: the probe finds out
+    sync._next_probe_s = 0.0  # pylint: disable=protected-access
+    sync.step(True)
+    assert sync.config_status == device_settings.UNREACHABLE
+    node.running.set()
+
+
+def test_timed_caller_returns_raises_and_times_out():
+    caller = device_settings.TimedCaller(0.2, 1)
+    assert caller.call(lambda x: x + 1, 1) == 2
+    try:
+        caller.call(lambda: 1 / 0)
+        raise AssertionError('no ZeroDivisionError')
+    except ZeroDivisionError:
+        pass
+    release = threading.Event()
+    for _ in range(2):  # the second is not even started
+        try:
+            caller.call(release.wait)
+            raise AssertionError('no timeout')
+        except device_settings.CallTimeout:
+            pass
+    assert caller.stuck == 1
+    release.set()
+    deadline = time.monotonic() + 2.0
+    while caller.stuck and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert caller.stuck == 0 and caller.call(lambda: 'ok') == 'ok'

@@ -182,3 +182,14 @@ def test_reopen_closes_and_opens_the_port_again_without_a_warning():
         link.stop()
     assert rec.warnings == []
     assert len(rec.infos) == 1  # the re-open is not news
+
+
+def test_a_short_write_is_a_write_error():
+    class ShortPort:
+        def write(self, data):
+            return len(data) - 1
+
+    link = SerialLink("x", 115200, None, None, print, print)
+    link._serial = ShortPort()  # pylint: disable=protected-access
+    assert not link.write(b'\xa5\x10\x01\x01')
+    assert link.write_errors == 1

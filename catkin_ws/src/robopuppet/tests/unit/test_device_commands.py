@@ -1,0 +1,113 @@
+"""Unit tests of robopuppet.device_commands: setting order, packing, the hold gate, rate check."""
+import os
+import xml.etree.ElementTree as ET
+
+import pytest
+
+from robopuppet import codec, config_store, device_commands as dc, settings
+
+ID = settings.CONFIG_ID
+LAUNCH_DIR = os.path.join(os.path.dirname(__file__), '..', '..', 'launch')
+
+
+def test_a_full_load_sends_every_setting_with_the_signs_before_home_angle():
+    stored = config_store.defaults()[0]
+    names = [n for n, _ in dc.settings_to_send(stored)]
+    assert sorted(names) == sorted(settings.NAMES)
+    assert names.index('sign_angle') < names.index('home_angle')
+    assert names.index('sign_motor') < names.index('home_angle')
+
+
+def test_a_re_sync_sends_what_differs_and_home_again_after_a_sign_change():
+    held = config_store.defaults()[2]
+    stored = dict(held, pid_kp=3.0)
+    assert dc.settings_to_send(stored, held) == [('pid_kp', 3.0)]
+    stored = dict(held, sign_angle=-1.0, home_angle=held['home_angle'])
+    assert dc.settings_to_send(stored, held) == [('sign_angle', -1.0),
+                                                 ('home_angle', held['home_angle'])]
+    assert dc.settings_to_send(held, held) == []  # the same settings again: nothing
+
+
+def test_pack_keeps_whole_frames_in_order_in_writes_of_at_most_64_bytes():
+    frames = [codec.encode(codec.JointConfig(j, i, 0.5)) for j in range(7) for i in range(12)]
+    writes = dc.pack(frames)
+    assert b''.join(writes) == b''.join(frames)
+    assert all(len(w) <= 64 and len(w) % 9 == 0 for w in writes)
+    assert len(writes) == 12  # 7 frames of 9 bytes fill a 64-byte packet
+    assert dc.pack([]) == []
+    with pytest.raises(ValueError):
+        dc.pack([bytes(65)])
+
+
+def test_a_hold_without_setpoints_and_without_angles_is_refused():
+    gate = dc.HoldGate()
+    plan = gate.plan_hold(1)
+    assert plan.messages is None and '0 rad' in plan.refusal
+
+
+def test_a_hold_fills_missing_setpoints_with_the_current_angles_first():
+    gate = dc.HoldGate()
+    angles = [0.1 * (j + 1) for j in settings.JOINTS]
+    gate.on_angles(angles, 1)
+    gate.record([codec.JointSetpoint(2, -0.5)], 1)
+    plan = gate.plan_hold(1)
+    assert plan.refusal is None
+    assert plan.messages == [codec.JointSetpoint(j, angles[j]) for j in settings.JOINTS
+                             if j != 2] + [codec.Opmode(codec.HOLD)]
+    # Whole frames in one write of at most 64 bytes: nothing comes between them on the wire.
+    assert len(dc.pack([codec.encode(m) for m in plan.messages])) == 1
+
+
+def test_seven_setpoints_make_a_bare_hold_and_limp_or_a_new_epoch_resets_them():
+    gate = dc.HoldGate()
+    gate.record([codec.JointSetpoint(j, 0.2) for j in settings.JOINTS], 1)
+    assert gate.plan_hold(1).messages == [codec.Opmode(codec.HOLD)]
+    gate.record([codec.Opmode(codec.LIMP)], 1)  # limp zeroes the firmware's setpoints
+    assert gate.plan_hold(1).refusal
+    gate.record([codec.JointSetpoint(j, 0.2) for j in settings.JOINTS], 1)
+    assert gate.plan_hold(2).refusal  # a reconnect or a load's limp: forgotten
+    gate.on_angles([0.0] * 7, 1)  # angles of an older epoch are no use
+    assert gate.plan_hold(2).refusal
+
+
+def test_a_setpoint_written_across_an_epoch_change_is_forgotten_not_believed():
+    gate = dc.HoldGate()
+    gate.on_angles([0.3] * 7, 2)
+    gate.record([codec.JointSetpoint(j, 0.2) for j in settings.JOINTS], 1)  # epoch read before
+    plan = gate.plan_hold(2)
+    assert plan.messages[:7] == [codec.JointSetpoint(j, 0.3) for j in settings.JOINTS]
+
+
+def test_rate_meter_needs_a_whole_window_and_restarts():
+    meter = dc.RateMeter(window_s=2.0)
+    assert meter.rate_hz(0.0) is None
+    for i in range(40):
+        meter.add(i * 0.1)  # 10 Hz for 4 s
+    assert meter.rate_hz(4.0) == pytest.approx(10.0, abs=0.5)
+    assert meter.rate_hz(10.0) == 0.0  # nothing for 6 s
+    meter.restart(10.0)
+    assert meter.rate_hz(11.0) is None
+
+
+@pytest.mark.parametrize('measured, expected, warns', [
+    (10.0, 10.0, False), (8.1, 10.0, False), (12.0, 10.0, False), (7.9, 10.0, True),
+    (50.0, 10.0, True), (10.0, 50.0, True), (None, 10.0, False), (3.0, 0.0, False)])
+def test_rate_problem_beyond_20_percent(measured, expected, warns):
+    problem = dc.rate_problem(measured, expected)
+    assert bool(problem) == warns
+    if warns:
+        assert 'comm_rate' in problem and 'compile-time' in problem
+
+
+@pytest.mark.parametrize('name', ['arm.launch', 'puppet.launch', 'main_sim.launch'])
+def test_launch_files_say_comm_rate_does_not_set_the_firmwares_rate(name):
+    args = {a.get('name'): a for a in ET.parse(os.path.join(LAUNCH_DIR, name)).getroot()
+            .findall('arg')}
+    assert 'compile-time' in args['comm_rate'].get('doc')
+
+
+def test_arm_launch_passes_comm_rate_to_the_serial_node():
+    root = ET.parse(os.path.join(LAUNCH_DIR, 'arm.launch')).getroot()
+    serial = next(n for n in root.iter('node') if n.get('type') == 'serial_interface')
+    params = {p.get('name'): p.get('value') for p in serial.iter('param')}
+    assert params['comm_rate'] == '$(arg comm_rate)'
