@@ -58,6 +58,8 @@ class GuiSimTest(unittest.TestCase):
     def test_a_slider_moves_the_simulated_hand_and_the_main_tab_shows_it(self):
         self.assertTrue(wait_until(lambda: self.cell(JOINT, 0) == 'Working', 30.0),
                         'joint %d never reported Working' % JOINT)
+        self.assertTrue(wait_until(lambda: self.reported_angle() is not None, 10.0),
+                        'joint %d shows no angle' % JOINT)
         start = self.reported_angle()
         target = -0.4 if start > 0 else 0.4
         self.panel.set_angle(JOINT, target)
