@@ -1,11 +1,9 @@
 #!/usr/bin/python3
 """rostest (issue 14 item 7): the real config node on a damaged, uncreatable, read-only or full
 file system: it repairs once, and otherwise keeps serving get_config and refuses every change."""
-import contextlib
 import os
 import re
 import shutil
-import subprocess
 import tempfile
 import time
 import unittest
@@ -16,6 +14,7 @@ import rostest
 from std_msgs.msg import Float32
 
 from config_testing import FIXTURE, ConfigNodeRunner
+from tmpfs_testing import tmpfs
 from robopuppet import config_store, settings
 
 LOG_LINE = re.compile(r'^\[rosout\]\[(\w+)\] \S+ \S+: (.*)$')  # the node's own log file
@@ -24,42 +23,6 @@ DAMAGED = open(FIXTURE).read().replace(
     '[joint_4]', '[bogus]\npid_kp = 5\n[joint_4]', 1).replace(
     '[joint_5]\n', '[joint_5]\nvoltage_max = 1e20\npid_kp = 3.4e38\n', 1) + \
     '[joint_2]\npid_kp = 99\npid_\n'
-
-
-@contextlib.contextmanager
-def tmpfs(size_kib, files, read_only=False, full=False):
-    """Mount a tiny tmpfs holding files ({name: text}); yield its path; unmount it after.
-
-    Raises unittest.SkipTest, saying why, when this machine does not let us mount.
-    """
-    mount_dir = tempfile.mkdtemp(prefix='robopuppet-config-tmpfs-')
-    try:
-        result = subprocess.run(['mount', '-t', 'tmpfs', '-o', 'size=%dk' % size_kib, 'tmpfs',
-                                 mount_dir], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                check=False)
-        if result.returncode != 0:
-            raise unittest.SkipTest('cannot mount a tmpfs (needs root or CAP_SYS_ADMIN): %s; '
-                                    'test_cannot_create covers the refusals without a mount'
-                                    % result.stdout.decode(errors='replace').strip())
-        try:
-            for name, text in files.items():
-                with open(os.path.join(mount_dir, name), 'w') as out:
-                    out.write(text)
-            if full:
-                fd = os.open(os.path.join(mount_dir, 'filler'), os.O_WRONLY | os.O_CREAT)
-                for chunk in (65536, 4096, 1):
-                    with contextlib.suppress(OSError):
-                        while True:
-                            os.write(fd, b'\0' * chunk)
-                os.close(fd)
-            if read_only:
-                subprocess.run(['mount', '-o', 'remount,ro', mount_dir], check=True)
-            yield mount_dir
-        finally:
-            if subprocess.run(['umount', mount_dir], check=False).returncode != 0:
-                subprocess.run(['umount', '-l', mount_dir], check=False)
-    finally:
-        os.rmdir(mount_dir)
 
 
 class ConfigUnwritableTest(ConfigNodeRunner, unittest.TestCase):

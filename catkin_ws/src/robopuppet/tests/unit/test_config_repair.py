@@ -1,17 +1,19 @@
 """Config file hardening (issue 14 item 7): a repair is clean once; an unwritable file or a full
 disk leaves the settings readable, the file as it was and nothing half-written beside it."""
-import contextlib
 import errno
 import os
 import random
 import shutil
-import subprocess
-import tempfile
+import sys
 import textwrap
 
 import pytest
 
 from robopuppet import config_file, config_store
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..',
+                                'integration'))
+from tmpfs_testing import tmpfs  # noqa: E402  (shared with the config rostests)
 
 DAMAGED = textwrap.dedent("""\
     # my puppet, tuned by hand
@@ -168,48 +170,8 @@ def test_a_file_that_cannot_be_read_runs_from_the_defaults_and_is_never_written(
     assert os.listdir(path) == [] and os.listdir(tmp_path) == ['arm_L.ini']
 
 
-@contextlib.contextmanager
-def tmpfs(size_kib, read_only=False, files=()):
-    """Mount a tiny tmpfs holding `files` ({name: text}); yield its path; unmount it after.
-
-    Skips the test when it cannot mount (not root, or no mount permission in a container).
-    """
-    mount_dir = tempfile.mkdtemp(prefix='robopuppet-tmpfs-')
-    try:
-        result = subprocess.run(['mount', '-t', 'tmpfs', '-o', 'size=%dk' % size_kib, 'tmpfs',
-                                 mount_dir], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                check=False)
-        if result.returncode != 0:
-            pytest.skip('cannot mount a tmpfs here (needs root or CAP_SYS_ADMIN): %s'
-                        % result.stdout.decode(errors='replace').strip())
-        try:
-            for name, text in dict(files).items():
-                with open(os.path.join(mount_dir, name), 'w') as out:
-                    out.write(text)
-            if read_only:
-                subprocess.run(['mount', '-o', 'remount,ro', mount_dir], check=True)
-            yield mount_dir
-        finally:
-            subprocess.run(['umount', mount_dir], check=True)
-    finally:
-        os.rmdir(mount_dir)
-
-
-def fill(directory):
-    """Write a filler file until the file system is full."""
-    fd = os.open(os.path.join(directory, 'filler'), os.O_WRONLY | os.O_CREAT)
-    try:
-        for chunk in (65536, 4096, 512, 1):
-            with contextlib.suppress(OSError):
-                while True:
-                    os.write(fd, b'\0' * chunk)
-    finally:
-        os.close(fd)
-
-
 def test_a_real_full_disk_leaves_no_empty_backup(tmp_path):
-    with tmpfs(64, files={'arm_R.ini': DAMAGED}) as disk:
-        fill(disk)
+    with tmpfs(64, {'arm_R.ini': DAMAGED}, full=True) as disk:
         loaded = config_file.load_or_create(os.path.join(disk, 'arm_R.ini'), '', 'stamp')
         assert 'No space left' in loaded.unwritable
         assert sorted(os.listdir(disk)) == ['arm_R.ini', 'filler']
@@ -220,7 +182,7 @@ def test_a_real_full_disk_leaves_no_empty_backup(tmp_path):
 def test_a_real_read_only_directory_is_read_and_left_alone(tmp_path):
     seed = tmp_path / 'seed.ini'
     seed.write_text(config_store.default_text())
-    with tmpfs(64, read_only=True, files={'arm_R.ini': DAMAGED}) as disk:
+    with tmpfs(64, {'arm_R.ini': DAMAGED}, read_only=True) as disk:
         loaded = config_file.load_or_create(os.path.join(disk, 'arm_R.ini'), str(seed), 's')
         assert 'Read-only file system' in loaded.unwritable
         assert loaded.config[1]['pid_kd'] == 0.5
