@@ -2,4 +2,7 @@
 from setuptools import setup
 from catkin_pkg.python_setup import generate_distutils_setup
 
-setup(**generate_distutils_setup(packages=['robopuppet', 'robopuppet.gui'], package_dir={'': 'src'}))
+PACKAGES = ['robopuppet', 'robopuppet.arm', 'robopuppet.baxter_sim', 'robopuppet.config', 'robopuppet.gui',
+            'robopuppet.protocol', 'robopuppet.puppet_sim']
+
+setup(**generate_distutils_setup(packages=PACKAGES, package_dir={'': 'src'}))

@@ -31,7 +31,8 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..'
 from teleop_harness import (PuppetArm, calibrate, max_error, node_pid,  # noqa: E402
                             swinging_hand, wait_for)
 
-from robopuppet import baxter_description, teleop  # noqa: E402
+from robopuppet import baxter_description  # noqa: E402
+from robopuppet.arm import teleop  # noqa: E402
 
 POSE = [0.2, 0.4, 0.3, 1.0, -0.3, 0.6, 0.25]
 MOVED_RAD = 1e-5

@@ -21,7 +21,8 @@ import tty
 
 import psutil
 
-from robopuppet import codec, settings
+from robopuppet import settings
+from robopuppet.protocol import codec
 
 from bench_support import percentile, private_roscore
 

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Benchmark false frames from line noise, before and after robopuppet.state_set (issue 14.2).
+"""Benchmark false frames from line noise, before and after robopuppet.protocol.state_set (issue 14.2).
 
 Usage (from the repository, after tools/setup.sh):
     . tools/env.sh && catkin_ws/src/robopuppet/benchmarks/bench_serial_noise.py \
@@ -18,7 +18,8 @@ import argparse
 import random
 import sys
 
-from robopuppet import codec, settings, state_set
+from robopuppet import settings
+from robopuppet.protocol import codec, state_set
 
 LIMITS_V = (-7.2, 7.2)  # the voltage limits the device holds (DESIGN section 5 defaults)
 SET_PERIOD_S = 0.1

@@ -31,7 +31,7 @@ import rospy
 from baxter_core_msgs.msg import JointCommand
 from sensor_msgs.msg import JointState
 
-from robopuppet import codec
+from robopuppet.protocol import codec
 
 from bench_support import percentile, private_roscore
 

@@ -15,7 +15,8 @@ from roslaunch.core import Node
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Empty, Float32, UInt8
 
-from robopuppet import codec, settings
+from robopuppet import settings
+from robopuppet.protocol import codec
 from serial_test_support import NS, TempConfig, seed_values, wait_for
 
 RATE_HZ = 100.0  # state sets, time-compressed (the firmware's 10 Hz would take too long)

@@ -12,8 +12,9 @@ from roslaunch.core import Node
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Empty, Float32, Float32MultiArray, String, UInt8, UInt8MultiArray
 
-from robopuppet import codec, settings
-from robopuppet.puppet_model import REST_POSE_RAD, wrap
+from robopuppet import settings
+from robopuppet.protocol import codec
+from robopuppet.puppet_sim.puppet_model import REST_POSE_RAD, wrap
 from robopuppet_msgs.srv import GetConfig
 from serial_test_support import NS, SIM, TempConfig, Watcher, seed_values, wait_for
 

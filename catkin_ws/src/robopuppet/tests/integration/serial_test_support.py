@@ -12,7 +12,8 @@ from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32MultiArray, String
 
-from robopuppet import config_store, settings
+from robopuppet import settings
+from robopuppet.config import config_store
 
 SIM = '/puppet_sim/arm_L'
 NS = '/puppet/arm_L'

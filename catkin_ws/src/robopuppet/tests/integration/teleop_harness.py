@@ -15,7 +15,8 @@ from baxter_core_msgs.msg import EndEffectorState, JointCommand
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32MultiArray, String, UInt8
 
-from robopuppet import baxter_description, teleop
+from robopuppet import baxter_description
+from robopuppet.arm import teleop
 from robopuppet_msgs.msg import TeleopState
 
 RELEASED = [0.0, 0.0, 0.0, 1.0]   # gripper readings with the end-piece button released

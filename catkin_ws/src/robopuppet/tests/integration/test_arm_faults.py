@@ -16,7 +16,8 @@ import rostest
 from diagnostic_msgs.msg import DiagnosticArray
 from sensor_msgs.msg import JointState
 
-from robopuppet import baxter_description, teleop
+from robopuppet import baxter_description
+from robopuppet.arm import teleop
 from teleop_harness import (Baxter, PuppetArm, calibrate, max_error, node_pid,
                             swinging_hand, wait_for)
 

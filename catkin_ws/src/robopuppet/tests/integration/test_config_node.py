@@ -14,7 +14,7 @@ from rosgraph_msgs.msg import Log
 from std_msgs.msg import Float32
 
 from config_testing import FIXTURE, ConfigNodeRunner
-from robopuppet import config_store
+from robopuppet.config import config_store
 
 
 

@@ -15,7 +15,8 @@ from std_msgs.msg import Float32
 
 from config_testing import FIXTURE, ConfigNodeRunner
 from tmpfs_testing import tmpfs
-from robopuppet import config_store, settings
+from robopuppet import settings
+from robopuppet.config import config_store
 
 LOG_LINE = re.compile(r'^\[rosout\]\[(\w+)\] \S+ \S+: (.*)$')  # the node's own log file
 # Torn lines, an unknown and a repeated section, a repeated option, out-of-bound values.

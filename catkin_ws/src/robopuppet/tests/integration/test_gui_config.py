@@ -19,7 +19,8 @@ import rostest
 from std_msgs.msg import Float32
 
 from gui_testing import application, wait_for_subscribers, wait_until
-from robopuppet import config_store, settings
+from robopuppet import settings
+from robopuppet.config import config_store
 from robopuppet.gui import settings_form
 from robopuppet.gui.joint_tab import JointTab
 from robopuppet.gui.puppet_client import PuppetClient

@@ -8,7 +8,7 @@ import rosnode
 import rospy
 import rostest
 
-from robopuppet import teleop
+from robopuppet.arm import teleop
 from teleop_harness import Baxter, PuppetArm, calibrate, max_error, wait_for
 
 POSE_A = [0.2, 0.4, 0.3, 1.0, -0.3, 0.6, 0.25]

@@ -6,7 +6,7 @@ import unittest
 import rospy
 import rostest
 
-from robopuppet import teleop
+from robopuppet.arm import teleop
 from teleop_harness import Baxter, PuppetArm, calibrate, max_error, wait_for
 
 POSE_L = [-0.3, 0.3, 0.4, 1.2, 0.2, 0.5, -0.2]

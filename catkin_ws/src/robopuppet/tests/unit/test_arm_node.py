@@ -1,10 +1,10 @@
-"""Tests of the pure helpers of robopuppet.arm_node (puppet joint_states matched by name)."""
+"""Tests of the pure helpers of robopuppet.arm.arm_node (puppet joint_states matched by name)."""
 import math
 
 import pytest
 from sensor_msgs.msg import JointState
 
-from robopuppet.arm_node import joint_angles
+from robopuppet.arm.arm_node import joint_angles
 
 NAMES = ['joint_%d' % j for j in range(7)]
 

@@ -1,9 +1,9 @@
-"""Tests of robopuppet.baxter_refusals: number checks, short reprs, the refusal log throttle."""
+"""Tests of robopuppet.baxter_sim.baxter_refusals: number checks, short reprs, the refusal log throttle."""
 import math
 
 import pytest
 
-from robopuppet.baxter_refusals import CommandError, RefusalThrottle, brief, finite
+from robopuppet.baxter_sim.baxter_refusals import CommandError, RefusalThrottle, brief, finite
 
 
 @pytest.mark.parametrize('value', [1, 0.25, -3.0, 1e300])

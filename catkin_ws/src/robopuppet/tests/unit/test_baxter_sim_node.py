@@ -1,4 +1,4 @@
-"""Tests of robopuppet.baxter_sim_node without a ROS master: parameter checks, refusal logs,
+"""Tests of robopuppet.baxter_sim.baxter_sim_node without a ROS master: parameter checks, refusal logs,
 the publishing loop's survival."""
 import math
 import threading
@@ -9,10 +9,10 @@ import rospy
 from baxter_core_msgs.msg import JointCommand
 
 from robopuppet import baxter_description as bd
-from robopuppet import baxter_sim_node
-from robopuppet.baxter_model import BaxterModel
-from robopuppet.baxter_refusals import RefusalThrottle
-from robopuppet.baxter_sim_node import BaxterSimNode, positive_param
+from robopuppet.baxter_sim import baxter_sim_node
+from robopuppet.baxter_sim.baxter_model import BaxterModel
+from robopuppet.baxter_sim.baxter_refusals import RefusalThrottle
+from robopuppet.baxter_sim.baxter_sim_node import BaxterSimNode, positive_param
 from robopuppet.periodic import Guard, Loop
 
 

@@ -1,11 +1,11 @@
-"""Unit tests of robopuppet.codec: the serial frames of DESIGN section 3."""
+"""Unit tests of robopuppet.protocol.codec: the serial frames of DESIGN section 3."""
 import math
 import struct
 
 import pytest
 from hypothesis import given, settings as hsettings, strategies as st
 
-from robopuppet import codec
+from robopuppet.protocol import codec
 
 # One valid example of every message type (floats exact in float32).
 EXAMPLES = [

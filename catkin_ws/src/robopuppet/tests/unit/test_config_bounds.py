@@ -4,7 +4,8 @@ import os
 
 import pytest
 
-from robopuppet import config_store, settings
+from robopuppet import settings
+from robopuppet.config import config_store
 from robopuppet.gui import settings_form
 
 CONFIG_DIR = os.path.join(os.path.dirname(__file__), '..', '..', 'config')

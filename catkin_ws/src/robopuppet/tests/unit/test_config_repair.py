@@ -9,7 +9,7 @@ import textwrap
 
 import pytest
 
-from robopuppet import config_file, config_store
+from robopuppet.config import config_file, config_store
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..',
                                 'integration'))

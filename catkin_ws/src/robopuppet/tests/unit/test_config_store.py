@@ -8,7 +8,8 @@ import textwrap
 
 import pytest
 
-from robopuppet import config_file, config_store, settings
+from robopuppet import settings
+from robopuppet.config import config_file, config_store
 
 
 def test_defaults_cover_every_joint_and_setting():
@@ -179,7 +180,7 @@ def test_kill_during_writes_never_leaves_a_torn_file(tmp_path):
     path = tmp_path / 'arm_R.ini'
     writer = textwrap.dedent("""\
         import sys
-        from robopuppet import config_file, config_store
+        from robopuppet.config import config_file, config_store
         config = config_store.defaults()
         i = 0
         while True:

@@ -1,10 +1,12 @@
-"""Unit tests of robopuppet.device_commands: setting order, packing, the hold gate, rate check."""
+"""Unit tests of robopuppet.protocol.device_commands: setting order, packing, the hold gate, rate check."""
 import os
 import xml.etree.ElementTree as ET
 
 import pytest
 
-from robopuppet import codec, config_store, device_commands as dc, settings
+from robopuppet import settings
+from robopuppet.config import config_store
+from robopuppet.protocol import codec, device_commands as dc
 
 ID = settings.CONFIG_ID
 LAUNCH_DIR = os.path.join(os.path.dirname(__file__), '..', '..', 'launch')

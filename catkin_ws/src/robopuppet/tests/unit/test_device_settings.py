@@ -1,11 +1,13 @@
-"""Unit tests of robopuppet.device_settings with a fake get_config and link (no ROS master)."""
+"""Unit tests of robopuppet.protocol.device_settings with a fake get_config and link (no ROS master)."""
 import math
 import threading
 import time
 
 import rospy
 
-from robopuppet import codec, config_store, device_settings, settings
+from robopuppet import settings
+from robopuppet.config import config_store
+from robopuppet.protocol import codec, device_settings
 from robopuppet_msgs.srv import GetConfigResponse
 
 ID = settings.CONFIG_ID

@@ -4,7 +4,8 @@ import math
 import numpy as np
 import pytest
 
-from robopuppet import config_store, settings
+from robopuppet import settings
+from robopuppet.config import config_store
 from robopuppet.gui import settings_form, state
 from robopuppet.gui.live_plot import Series
 

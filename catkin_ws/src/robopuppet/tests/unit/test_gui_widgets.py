@@ -8,11 +8,12 @@ os.environ.setdefault('QT_QPA_PLATFORM', 'offscreen')
 import pytest  # noqa: E402
 from PyQt5 import QtCore, QtGui  # noqa: E402
 
-from robopuppet import config_store, settings  # noqa: E402
+from robopuppet import settings  # noqa: E402
+from robopuppet.config import config_store  # noqa: E402
 from robopuppet.gui import joint_tab, main_tab, state  # noqa: E402
 from robopuppet.gui.puppet_client import ConfigUnavailable  # noqa: E402
 from robopuppet.gui.window import Window  # noqa: E402
-from robopuppet.puppet_model import REST_POSE_RAD  # noqa: E402
+from robopuppet.puppet_sim.puppet_model import REST_POSE_RAD  # noqa: E402
 
 
 class FakeClient:

@@ -1,10 +1,11 @@
-"""Unit tests of robopuppet.puppet_model: the simulated 2020 firmware and arm."""
+"""Unit tests of robopuppet.puppet_sim.puppet_model: the simulated 2020 firmware and arm."""
 import math
 
 import pytest
 
-from robopuppet import codec, settings
-from robopuppet.puppet_model import (POWER_ON_SETTINGS, PuppetFirmware, QUAD_JOINTS,
+from robopuppet import settings
+from robopuppet.protocol import codec
+from robopuppet.puppet_sim.puppet_model import (POWER_ON_SETTINGS, PuppetFirmware, QUAD_JOINTS,
                                      REST_POSE_RAD)
 
 ID = settings.CONFIG_ID

@@ -1,12 +1,13 @@
-"""Unit tests of robopuppet.puppet_wire: the firmware's receive logic and the USB packet model."""
+"""Unit tests of robopuppet.puppet_sim.puppet_wire: the firmware's receive logic and the USB packet model."""
 import math
 import random
 
 import pytest
 
-from robopuppet import codec, settings
-from robopuppet.puppet_model import PuppetFirmware
-from robopuppet.puppet_wire import (SINGLE_WRITE_SPAN_S, FirmwareReceiver, OutputQueue,
+from robopuppet import settings
+from robopuppet.protocol import codec
+from robopuppet.puppet_sim.puppet_model import PuppetFirmware
+from robopuppet.puppet_sim.puppet_wire import (SINGLE_WRITE_SPAN_S, FirmwareReceiver, OutputQueue,
                                     ReadSpan, UsbPacketModel, device_frame)
 
 ID = settings.CONFIG_ID

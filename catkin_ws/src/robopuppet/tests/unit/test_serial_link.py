@@ -1,11 +1,11 @@
-"""Unit tests of robopuppet.serial_link over pyserial's loop:// port (no device, no ROS)."""
+"""Unit tests of robopuppet.protocol.serial_link over pyserial's loop:// port (no device, no ROS)."""
 import termios
 import threading
 import time
 
 import serial
 
-from robopuppet.serial_link import SerialLink
+from robopuppet.protocol.serial_link import SerialLink
 
 
 def wait_for(predicate, timeout_s=3.0):

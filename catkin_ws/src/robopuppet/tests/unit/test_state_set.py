@@ -1,4 +1,4 @@
-"""Unit tests of robopuppet.state_set: plausible, whole state sets and healthy heartbeats."""
+"""Unit tests of robopuppet.protocol.state_set: plausible, whole state sets and healthy heartbeats."""
 import math
 import random
 import struct
@@ -6,7 +6,8 @@ import struct
 import pytest
 from hypothesis import given, settings as hsettings, strategies as st
 
-from robopuppet import codec, settings, state_set
+from robopuppet import settings
+from robopuppet.protocol import codec, state_set
 
 HEARTBEAT = codec.encode(codec.Heartbeat())
 LIMITS = {j: (-7.0 + 0.5 * j, 7.0 - 0.5 * j) for j in settings.JOINTS}  # one per joint

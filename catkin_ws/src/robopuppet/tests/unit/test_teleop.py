@@ -3,8 +3,9 @@ import math
 
 import pytest
 
-from robopuppet import baxter_description, joint_motion, teleop
-from robopuppet.teleop import CALIBRATING, FAULT, FOLLOWING, NO_ROBOT, READY
+from robopuppet import baxter_description
+from robopuppet.arm import joint_motion, teleop
+from robopuppet.arm.teleop import CALIBRATING, FAULT, FOLLOWING, NO_ROBOT, READY
 
 WORKING = ['Working'] * 7
 ONE_UNCALIBRATED = ['Working', 'Working', 'Uncalibrated', 'Working', 'Working', 'Working',

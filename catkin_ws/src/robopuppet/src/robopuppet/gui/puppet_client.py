@@ -10,7 +10,8 @@ from diagnostic_msgs.msg import DiagnosticArray
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Empty, Float32, Float32MultiArray, String, UInt8
 
-from robopuppet import codec, settings
+from robopuppet import settings
+from robopuppet.protocol import codec
 from robopuppet.gui import state
 from robopuppet_msgs.msg import TeleopState
 from robopuppet_msgs.srv import GetConfig

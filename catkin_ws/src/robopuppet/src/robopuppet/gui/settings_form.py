@@ -5,7 +5,8 @@ whole form, so the GUI refuses exactly what the config node would refuse.
 """
 import math
 
-from robopuppet import config_store, settings
+from robopuppet import settings
+from robopuppet.config import config_store
 
 
 class EntryError(ValueError):

@@ -4,7 +4,7 @@ Pure: every method that changes with time takes `now_s` (seconds, any monotonic 
 """
 import json
 
-from robopuppet.baxter_refusals import CommandError, brief, finite
+from robopuppet.baxter_sim.baxter_refusals import CommandError, brief, finite
 
 GRIPPER_OPEN = 100.0    # % of finger travel; 0 is closed
 # Electric gripper parameters of the `configure` command (% of maximum), with the SDK's defaults.

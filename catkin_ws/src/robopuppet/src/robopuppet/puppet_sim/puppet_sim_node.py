@@ -10,10 +10,11 @@ import rospy
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32MultiArray, MultiArrayDimension, String, UInt8, UInt8MultiArray
 
-from robopuppet import codec, settings
+from robopuppet import settings
+from robopuppet.protocol import codec
 from robopuppet.periodic import Guard
-from robopuppet.puppet_model import PuppetFirmware
-from robopuppet.puppet_wire import (POLL_PERIOD_S, FirmwareReceiver, OutputQueue, ReadSpan,
+from robopuppet.puppet_sim.puppet_model import PuppetFirmware
+from robopuppet.puppet_sim.puppet_wire import (POLL_PERIOD_S, FirmwareReceiver, OutputQueue, ReadSpan,
                                     UsbPacketModel, device_frame)
 
 JOINT_INDEX = {name: j for j, name in enumerate(settings.JOINT_NAMES)}
@@ -29,8 +30,8 @@ class PuppetSimNode:
     """Behave byte for byte like the puppet's microcontroller (the 2020 firmware) on a pty.
 
     The serial node opens ~port_link like a USB serial port. The firmware and arm model are
-    robopuppet.puppet_model, the receive logic and USB packets robopuppet.puppet_wire; this
-    adapter moves bytes and operator input.
+    puppet_model (and puppet_arm), the receive logic and USB packets puppet_wire; this adapter
+    moves bytes and operator input.
 
     Subscribes (in <sim> = /puppet_sim/arm_<side>):
         hand (sensor_msgs/JointState): joint_0..joint_6 mechanical angles rad where the

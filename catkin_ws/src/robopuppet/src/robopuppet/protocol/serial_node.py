@@ -7,11 +7,12 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Empty, Float32, String, UInt8
 
-from robopuppet import codec, device_commands, device_settings, settings, state_set
-from robopuppet.device_settings import DeviceSettings
+from robopuppet import settings
+from robopuppet.protocol import codec, device_commands, device_settings, state_set
+from robopuppet.protocol.device_settings import DeviceSettings
 from robopuppet.periodic import Guard, Loop
-from robopuppet.serial_link import SerialLink
-from robopuppet.teleop import HEARTBEAT_TIMEOUT_S
+from robopuppet.protocol.serial_link import SerialLink
+from robopuppet.arm.teleop import HEARTBEAT_TIMEOUT_S
 
 OPEN_RETRY_S = 0.5  # pause between attempts to open a missing or lost port
 WAKE_S = 1.0  # pause between re-opens of a silent device
@@ -26,16 +27,16 @@ class SerialNode:
     At start and after every (re)connect it loads all 84 settings from get_config into the
     device, then sends opmode limp. Until then (e.g. while the config node is down) the device
     runs on firmware defaults, so no joint_states and no joint_J/angle, voltage or enc_stat are
-    published. get_config runs off the node's loops with a timeout (robopuppet.device_settings):
+    published. get_config runs off the node's loops with a timeout (robopuppet.protocol.device_settings):
     a hung config node delays only the settings and shows in /diagnostics as unreachable. The
     device mirrors what the config node stored: a joint_J/<setting> message only makes the node
-    re-read that joint from get_config and send what differs (see robopuppet.device_settings).
+    re-read that joint from get_config and send what differs (see robopuppet.protocol.device_settings).
     A missing, vanished or silent port is logged once and retried; no byte sequence stops the
     node.
 
     Publishes (in <ns> = /puppet/arm_<side>):
         heartbeat (std_msgs/Empty): one per heartbeat frame on a healthy line, and only
-            whole, plausible state sets are published (robopuppet.state_set).
+            whole, plausible state sets are published (robopuppet.protocol.state_set).
         joint_states (sensor_msgs/JointState): joint_0..joint_6, position = angle rad,
             effort = motor voltage V; one per complete set of seven joint state frames, once
             the settings are loaded after the current (re)connect.

@@ -1,4 +1,4 @@
-"""arm_X: drives Baxter from one puppet arm, through Baxter's own ROS API (robopuppet.teleop)."""
+"""arm_X: drives Baxter from one puppet arm, through Baxter's own ROS API (robopuppet.arm.teleop)."""
 import json
 import math
 import threading
@@ -12,7 +12,9 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool, Empty, Float32, String, UInt8
 
-from robopuppet import baxter_description, codec, settings, teleop
+from robopuppet import baxter_description, settings
+from robopuppet.arm import teleop
+from robopuppet.protocol import codec
 from robopuppet.periodic import Guard, Loop
 from robopuppet_msgs.msg import TeleopState
 

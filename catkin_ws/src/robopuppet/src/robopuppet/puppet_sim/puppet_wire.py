@@ -17,7 +17,7 @@ import collections
 import math
 import struct
 
-from robopuppet import codec
+from robopuppet.protocol import codec
 
 # Host->device frames the firmware knows: id -> message type (layout from the codec's table).
 RX_TYPES = {t.ID: t for t in codec.types_sent_by(codec.TO_DEVICE)}
@@ -37,7 +37,7 @@ class FirmwareReceiver:
 
     Args:
         firmware: has set_opmode(byte), configure(joint, config_id, value) and
-            set_setpoint(joint, angle_rad) (robopuppet.puppet_model.PuppetFirmware).
+            set_setpoint(joint, angle_rad) (robopuppet.puppet_sim.puppet_model.PuppetFirmware).
     Counters: frames (obeyed), bad_checksums, cut_frames (missing bytes: garbage), flushes
         (a non-start byte or unknown id), flushed_bytes.
     """

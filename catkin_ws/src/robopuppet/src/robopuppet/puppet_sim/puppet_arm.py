@@ -8,7 +8,7 @@ proportional to the voltage, following it with a 10 ms lag, back-EMF braking whi
 are enabled), servo friction (Coulomb and viscous), and the operator's hand: a stiff
 spring-damper toward the hand pose that moves at a hand-like speed and is stronger than the
 servos. Until the first hand input the hand holds REST_POSE_RAD. Angles here are mechanical; the
-firmware's encoders (robopuppet.puppet_model) turn them into reported angles.
+firmware's encoders (robopuppet.puppet_sim.puppet_model) turn them into reported angles.
 """
 import math
 

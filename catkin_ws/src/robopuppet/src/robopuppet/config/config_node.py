@@ -6,7 +6,8 @@ import rospkg
 import rospy
 from std_msgs.msg import Float32
 
-from robopuppet import config_file, config_store, settings
+from robopuppet import settings
+from robopuppet.config import config_file, config_store
 from robopuppet_msgs.srv import GetConfig, GetConfigResponse
 
 

@@ -1,6 +1,6 @@
 """ROS node baxter_sim: a kinematic Baxter stand-in that speaks Baxter's own ROS API.
 
-The motion is robopuppet.baxter_model; this module only wires it to topics. Every callback and
+The motion is robopuppet.baxter_sim.baxter_model; this module only wires it to topics. Every callback and
 the publishing loop run through a robopuppet.periodic Guard: an exception is logged with the
 count of failures so far and the node keeps going.
 """
@@ -17,8 +17,8 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool, Empty, Float64
 
 from robopuppet import baxter_description as bd
-from robopuppet.baxter_model import BaxterModel
-from robopuppet.baxter_refusals import CommandError, RefusalThrottle, brief
+from robopuppet.baxter_sim.baxter_model import BaxterModel
+from robopuppet.baxter_sim.baxter_refusals import CommandError, RefusalThrottle, brief
 from robopuppet.periodic import Guard, Loop
 
 SOFTWARE_VERSION = '1.2.0'

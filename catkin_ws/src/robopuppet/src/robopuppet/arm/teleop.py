@@ -18,7 +18,7 @@ claim one at once, both let it go.
 import collections
 import math
 
-from robopuppet.joint_motion import SpeedBudget, all_finite, clamp, mirror
+from robopuppet.arm.joint_motion import SpeedBudget, all_finite, clamp, mirror
 
 NO_ROBOT, CALIBRATING, READY, FOLLOWING, FAULT = (
     'no_robot', 'calibrating', 'ready', 'following', 'fault')

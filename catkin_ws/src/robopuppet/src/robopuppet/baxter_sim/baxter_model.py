@@ -2,13 +2,13 @@
 
 Pure: every method that changes with time takes `now_s` (seconds, any monotonic origin); nothing
 here reads a clock or imports rospy. Joint names and limits come from baxter_description; the
-gripper is robopuppet.baxter_gripper, the refusals robopuppet.baxter_refusals.
+gripper is robopuppet.baxter_sim.baxter_gripper, the refusals robopuppet.baxter_sim.baxter_refusals.
 """
 import math
 
 from robopuppet import baxter_description as bd
-from robopuppet.baxter_gripper import GRIPPER_OPEN, Gripper, approach
-from robopuppet.baxter_refusals import CommandError, NotEnabledError, brief, finite
+from robopuppet.baxter_sim.baxter_gripper import GRIPPER_OPEN, Gripper, approach
+from robopuppet.baxter_sim.baxter_refusals import CommandError, NotEnabledError, brief, finite
 
 __all__ = ['BaxterModel', 'Arm', 'CommandError', 'NotEnabledError', 'GRIPPER_OPEN',
            'POSITION_MODE', 'RAW_POSITION_MODE']

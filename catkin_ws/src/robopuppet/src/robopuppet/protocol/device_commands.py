@@ -14,7 +14,8 @@ does"):
 """
 import collections
 
-from robopuppet import codec, settings
+from robopuppet import settings
+from robopuppet.protocol import codec
 
 USB_PACKET_BYTES = 64  # full-speed USB bulk packet of the Teensy's serial port
 LOAD_PAUSE_S = 0.005  # between the writes of a load: one packet at a time reaches the device

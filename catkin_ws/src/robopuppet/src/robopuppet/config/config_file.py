@@ -10,7 +10,7 @@ import os
 import shutil
 import tempfile
 
-from robopuppet import config_store
+from robopuppet.config import config_store
 
 
 def resolve_path(file_name, ros_home):

@@ -25,7 +25,8 @@ so line noise decodes into frames that pass codec.Decoder. This layer adds what 
 import collections
 import math
 
-from robopuppet import codec, settings
+from robopuppet import settings
+from robopuppet.protocol import codec
 
 # An angle is wrapped to [-pi, pi] by the firmware; float32(pi) is a little above math.pi.
 ANGLE_LIMIT_RAD = math.pi + 1e-6

@@ -18,15 +18,16 @@ Uncalibrated until they first pass their index mark at mechanical angle 0 (any m
 Opmode: limp zeroes every setpoint and voltage; hold resets the PIDs and keeps the setpoints (0
 rad after power-on or limp). The settings start at the firmware's power-on values
 (POWER_ON_SETTINGS: velocity limits +-pi/4 rad/s, voltage limits 0 V) until the host loads its
-own. The bytes on the wire are robopuppet.puppet_wire's.
+own. The bytes on the wire are robopuppet.puppet_sim.puppet_wire's.
 """
 import collections
 import math
 
 import numpy as np
 
-from robopuppet import codec, settings
-from robopuppet.puppet_arm import (NOMINAL_VOLTAGE_V, REST_GRIPPERS, REST_POSE_RAD,  # noqa: F401
+from robopuppet import settings
+from robopuppet.protocol import codec
+from robopuppet.puppet_sim.puppet_arm import (NOMINAL_VOLTAGE_V, REST_GRIPPERS, REST_POSE_RAD,  # noqa: F401
                                    ArmPhysics, wrap)
 
 CONTROL_RATE_HZ = 50.0

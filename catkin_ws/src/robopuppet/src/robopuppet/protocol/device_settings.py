@@ -2,11 +2,11 @@
 
 After each (re)connect all 84 settings are read from get_config and written to the device,
 then opmode limp; until that is done the node must not publish joint angles (see
-robopuppet.serial_node). A joint_J/<setting> message only marks joint J: its value is never
+robopuppet.protocol.serial_node). A joint_J/<setting> message only marks joint J: its value is never
 sent. A re-read of a marked joint from get_config follows shortly after, and every value that
 differs from what the device holds is sent, so a value that config_X refused, or could not
 write to its file, never reaches the device. The order of the frames and their grouping into
-writes are robopuppet.device_commands' (signs before home_angle; whole frames, <= 64 bytes per
+writes are robopuppet.protocol.device_commands' (signs before home_angle; whole frames, <= 64 bytes per
 write, a short pause between writes).
 
 get_config is never called on the caller's thread: each call runs on a thread of its own and is
@@ -18,7 +18,9 @@ import time
 
 import rospy
 
-from robopuppet import codec, config_store, device_commands, settings
+from robopuppet import settings
+from robopuppet.config import config_store
+from robopuppet.protocol import codec, device_commands
 from robopuppet_msgs.srv import GetConfig
 
 RETRY_S = 1.0  # pause between attempts to load the settings or to re-read a joint
