@@ -3,7 +3,7 @@ import math
 
 import pytest
 
-from robopuppet import baxter_description
+from robopuppet import baxter_description, interface
 from robopuppet.arm import joint_motion, teleop
 from robopuppet.arm.teleop import CALIBRATING, FAULT, FOLLOWING, NO_ROBOT, READY
 
@@ -225,7 +225,7 @@ def test_non_finite_angles_are_ignored():
     command = rig.tp.step(rig.t + 0.01).commands['right']
     assert all(math.isfinite(a) for a in command)
     assert command == pytest.approx(HAND)
-    assert rig.tp.ignored_angles == 2
+    assert rig.tp.puppet.ignored_angles == 2
 
 
 def test_watchdog_stops_commands_when_joint_states_stop():
@@ -349,7 +349,7 @@ def test_watchdog_works_before_the_first_heartbeat():
             break
         t += 0.05
         assert t < 10, 'no fault without heartbeats'
-    assert t == pytest.approx(teleop.HEARTBEAT_TIMEOUT_S, abs=0.06)
+    assert t == pytest.approx(interface.HEARTBEAT_TIMEOUT_S, abs=0.06)
     assert tp.heartbeat_age(t) == -1.0
     tp2 = teleop.Teleop('R', LIMITS)
     tp2.on_robot(0.0, True)
@@ -433,7 +433,7 @@ def test_a_robot_pose_out_of_its_limits_is_not_believed():
     rig = enter(READY)
     rig.robot(pose={'left': NEUTRAL['left'], 'right': [1e39] * 7})
     rig.robot(pose={'left': NEUTRAL['left'], 'right': [0.0, 0.0, 0.0, 4.0, 0.0, 0.0, 0.0]})
-    assert rig.tp.ignored_poses == 2
+    assert rig.tp.robot.ignored_poses == 2
     actions = rig.press(1).actions
     assert actions[0] == teleop.SetSetpoints(NEUTRAL['right'])  # the last believable pose
 

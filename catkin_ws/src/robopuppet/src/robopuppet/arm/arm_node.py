@@ -12,10 +12,10 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool, Empty, Float32, String, UInt8
 
-from robopuppet import baxter_description, settings
-from robopuppet.arm import teleop
-from robopuppet.protocol import codec
+from robopuppet import baxter_description, interface, settings
+from robopuppet.arm import baxter_watch, teleop
 from robopuppet.periodic import Guard, Loop
+from robopuppet.protocol import codec
 from robopuppet_msgs.msg import TeleopState
 
 ROBOT_TIMEOUT_S = 1.0        # Baxter is absent when /robot/state or joint states are older
@@ -106,7 +106,7 @@ class ArmNode:
         self._teleop = teleop.Teleop(
             side, limits,
             state_timeout_s=positive_param('~state_timeout', teleop.STATE_TIMEOUT_S),
-            heartbeat_timeout_s=positive_param('~heartbeat_timeout', teleop.HEARTBEAT_TIMEOUT_S),
+            heartbeat_timeout_s=positive_param('~heartbeat_timeout', interface.HEARTBEAT_TIMEOUT_S),
             approach_speed_rad_s=positive_param('~approach_speed', 0.5),
             command_period_s=self._period_s)
         self._lock = threading.Lock()
@@ -218,7 +218,7 @@ class ArmNode:
         # The measurement's age from its stamp when that is believable (same clock, not from
         # the future nor older than the extrapolation may reach), else from now.
         age_s = (rospy.Time.now() - msg.header.stamp).to_sec() if msg.header.stamp else 0.0
-        if not 0.0 <= age_s <= teleop.MAX_EXTRAPOLATION_S:
+        if not 0.0 <= age_s <= baxter_watch.MAX_EXTRAPOLATION_S:
             age_s = 0.0
         with self._lock:
             self._robot_joints_t = now
@@ -335,7 +335,7 @@ class ArmNode:
             ('state', tp.state), ('follow_left', tp.following['left']),
             ('follow_right', tp.following['right']), ('opmode', tp.opmode),
             ('heartbeat_age_s', '%.2f' % tp.heartbeat_age(now)),
-            ('ignored_angles', tp.ignored_angles), ('ignored_robot_poses', tp.ignored_poses),
+            ('ignored_angles', tp.puppet.ignored_angles), ('ignored_robot_poses', tp.robot.ignored_poses),
             ('refused_joint_states', self._refused_states),
             ('callback_errors', self._guard.errors), ('last_error', self._guard.last_error))]
         diag = DiagnosticArray(status=[DiagnosticStatus(

@@ -18,7 +18,10 @@ claim one at once, both let it go.
 import collections
 import math
 
-from robopuppet.arm.joint_motion import SpeedBudget, all_finite, clamp, mirror
+from robopuppet.arm.baxter_watch import BaxterWatch
+from robopuppet.arm.joint_motion import SpeedBudget, clamp, mirror
+from robopuppet.arm.puppet_watch import PuppetWatch
+from robopuppet.interface import HEARTBEAT_TIMEOUT_S
 
 NO_ROBOT, CALIBRATING, READY, FOLLOWING, FAULT = (
     'no_robot', 'calibrating', 'ready', 'following', 'fault')
@@ -28,14 +31,7 @@ BUTTON_HOLD, BUTTON_LEFT, BUTTON_RIGHT = 1, 2, 3
 GRIP_PRESSED_BELOW, GRIP_RELEASED_ABOVE = 0.3, 0.7  # end-piece reading, with hysteresis
 STATE_TIMEOUT_S = 0.4      # the puppet is silent after this long without joint states (4 sets at
                            # 10 Hz): within the 0.5 s a stop must take, yet not tripped by a stall
-HEARTBEAT_TIMEOUT_S = 2.5  # ... or without a heartbeat (the firmware beats at 1 Hz)
 CLAIM_EXPIRY_S = 1.5       # the other puppet's claim on an arm lasts this long unless renewed
-# Baxter reports its joints slightly past the URDF limits at a limit; a pose further out than
-# this is not Baxter's (garbage on /robot/joint_states) and is ignored.
-ROBOT_POSE_MARGIN_RAD = 0.1
-# Where Baxter is now, for a stop, is its newest measured pose moved on by its measured velocity
-# for the age of the measurement, but never by more than this much time.
-MAX_EXTRAPOLATION_S = 0.05
 
 # (state, event) -> next state. Events not listed for a state leave it unchanged.
 TRANSITIONS = {
@@ -96,8 +92,8 @@ class Teleop:
             raise ValueError("puppet side must be 'L' or 'R', got %r" % (puppet_side,))
         self.own_side = 'left' if puppet_side == 'L' else 'right'
         self.limits = limits
-        self.state_timeout_s = state_timeout_s
-        self.heartbeat_timeout_s = heartbeat_timeout_s
+        self.puppet = PuppetWatch(state_timeout_s, heartbeat_timeout_s)
+        self.robot = BaxterWatch(limits)
         self.approach_speed_rad_s = approach_speed_rad_s
         self.track_tolerance_rad = track_tolerance_rad
         self.command_period_s = command_period_s
@@ -107,15 +103,8 @@ class Teleop:
         self.following = {side: False for side in SIDES}
         self.tracking = {side: False for side in SIDES}  # False while approaching
         self.gripper_closed = False
-        self._angles = None        # newest finite puppet angle per joint (rad), None: never
-        self._statuses = []        # newest encoder statuses
-        self._state_t = None       # time of the newest joint states
-        self._first_state_t = None
-        self._heartbeat_t = None
         self._fault_t = None
         self._robot_ok = False
-        self._robot_pose = {}      # side -> 7 angles (rad)
-        self._robot_motion = {}    # side -> (measurement time s, 7 velocities rad/s)
         self._motion = {}          # side -> SpeedBudget holding the last command
         self._claim_t = {side: None for side in SIDES}  # when the other puppet last claimed
         self._button = 0
@@ -123,32 +112,13 @@ class Teleop:
         self._grip_reading = None
         self._last_step_t = None
         self._failure = None       # why the arm controller failed, until the next step
-        self.ignored_angles = 0    # non-finite angles dropped so far
-        self.ignored_poses = 0     # Baxter arm poses not believed (non-finite, out of limits)
+        # Inputs about the puppet's stream and Baxter's pose go to self.puppet and self.robot.
+        self.on_joint_states = self.puppet.on_joint_states
+        self.on_heartbeat = self.puppet.on_heartbeat
+        self.heartbeat_age = self.puppet.heartbeat_age
+        self.on_robot_pose = self.robot.on_robot_pose
 
     # ---- inputs --------------------------------------------------------------------------
-
-    def on_joint_states(self, t, statuses, angles_rad):
-        """Take one set of puppet joint states: 7 status strings and 7 angles (rad).
-
-        A non-finite angle is ignored: the joint keeps its last valid angle, and a joint that
-        never sent one keeps Baxter from following (it counts as not calibrated).
-        """
-        if self._angles is None:
-            self._angles = [None] * len(angles_rad)
-        for j, angle in enumerate(angles_rad):
-            if math.isfinite(angle):
-                self._angles[j] = angle
-            else:
-                self.ignored_angles += 1
-        self._statuses = list(statuses)
-        self._state_t = t
-        if self._first_state_t is None:
-            self._first_state_t = t
-
-    def on_heartbeat(self, t):
-        """Take a puppet heartbeat."""
-        self._heartbeat_t = t
 
     def on_button(self, t, button):
         """Take the puppet's user-button reading (1-4, 0 none); a press acts once."""
@@ -170,52 +140,12 @@ class Teleop:
         """Take whether Baxter is present and enabled."""
         self._robot_ok = enabled
 
-    def on_robot_pose(self, t, pose, velocities=None):
-        """Take {side: 7 joint angles rad} of Baxter's arms, measured at time t.
-
-        An arm pose with a non-finite angle, or an angle further than ROBOT_POSE_MARGIN_RAD
-        outside the joint's limits, is ignored and counted (the previous pose stays): such a
-        value never becomes a puppet setpoint or a command. velocities ({side: 7 rad/s}, where
-        known) tell where the arm is a little later; one that is not finite or beyond the
-        joint's velocity limit counts as 0.
-        """
-        velocities = velocities or {}
-        for side, angles in pose.items():
-            limits = self.limits[side]
-            if all_finite(angles) and all(
-                    lim.lower - ROBOT_POSE_MARGIN_RAD <= a <= lim.upper + ROBOT_POSE_MARGIN_RAD
-                    for a, lim in zip(angles, limits)):
-                self._robot_pose[side] = list(angles)
-                speeds = velocities.get(side) or [0.0] * len(angles)
-                self._robot_motion[side] = (t, [
-                    v if math.isfinite(v) and abs(v) <= lim.velocity else 0.0
-                    for v, lim in zip(speeds, limits)])
-            else:
-                self.ignored_poses += 1
-
     def on_controller_failed(self, t, why):
         """The arm controller itself failed (its command loop stalls or raises): stop following
         as on a silent puppet; following resumes only after a new press."""
         self._failure = why
 
     # ---- decisions -----------------------------------------------------------------------
-
-    def heartbeat_age(self, t):
-        """Return seconds since the last heartbeat, or -1.0 before the first."""
-        return -1.0 if self._heartbeat_t is None else t - self._heartbeat_t
-
-    def _heartbeat_ref(self):
-        """Return the time the heartbeat timeout counts from: the last beat, else the first data."""
-        return self._first_state_t if self._heartbeat_t is None else self._heartbeat_t
-
-    def _silent(self, t):
-        if self._state_t is None:
-            return None  # never heard from: calibrating, waiting for data
-        if t - self._state_t > self.state_timeout_s:
-            return 'no joint states from the puppet for %.2f s' % (t - self._state_t)
-        if t - self._heartbeat_ref() > self.heartbeat_timeout_s:
-            return 'no heartbeat from the puppet for %.2f s' % (t - self._heartbeat_ref())
-        return None
 
     def _claimed(self, side, t):
         claim_t = self._claim_t[side]
@@ -236,7 +166,7 @@ class Teleop:
 
     def _events(self, t):
         """Yield (event, detail) for what changed since the last step."""
-        silent = self._silent(t)
+        silent = self.puppet.silent(t)
         if self._failure is not None:
             yield 'controller_failed', 'the arm controller failed (%s); press 2 or 3 to follow ' \
                 'again' % self._failure
@@ -247,21 +177,12 @@ class Teleop:
             yield 'robot_ok', 'Baxter enabled'
         if silent:
             yield 'silent', silent
-        elif self.state == FAULT and self._state_t > self._fault_t \
-                and self._heartbeat_ref() > self._fault_t:
+        elif self.state == FAULT and self.puppet.fresh_since(self._fault_t):
             yield 'fresh', 'puppet data is back; press 2 or 3 to follow again'
-        if self._state_t is not None and not silent:
-            waiting = {}
-            for joint, status in enumerate(self._statuses):
-                if status != 'Working':
-                    waiting.setdefault(status, []).append(str(joint))
-                elif self._angles[joint] is None:
-                    waiting.setdefault('with no valid angle yet', []).append(str(joint))
+        if self.puppet.state_t is not None and not silent:
+            waiting = self.puppet.not_calibrated()
             if waiting:
-                yield 'uncalibrated', '; '.join(
-                    'joint%s %s %s' % ('s' if len(joints) > 1 else '', ', '.join(joints), status)
-                    for status, joints in sorted(waiting.items())) + (
-                    ': turn each through its index mark' if 'Uncalibrated' in waiting else '')
+                yield 'uncalibrated', waiting
             else:
                 yield 'calibrated', 'all joints Working; press 2 or 3 to follow'
 
@@ -278,7 +199,7 @@ class Teleop:
 
     def _toggle_hold(self, t, actions):
         if self.opmode == LIMP:
-            pose = self._robot_pose.get(self.own_side)
+            pose = self.robot.pose.get(self.own_side)
             if pose is None:
                 return
             self.opmode = HOLD
@@ -296,10 +217,10 @@ class Teleop:
         elif self._claimed(side, t):
             self.detail = 'the other puppet drives Baxter\'s %s arm already' % side
             return
-        elif side in self._robot_pose:
+        elif side in self.robot.pose:
             self.following[side] = True
             self.tracking[side] = False
-            self._motion[side] = SpeedBudget(clamp(self._robot_pose[side], self.limits[side]),
+            self._motion[side] = SpeedBudget(clamp(self.robot.pose[side], self.limits[side]),
                                              self.command_period_s, t)
         self._after_follow_change('')
 
@@ -336,7 +257,7 @@ class Teleop:
         for side in SIDES:
             if not self.following[side]:
                 continue
-            angles = self._angles if side == self.own_side else mirror(self._angles)
+            angles = self.puppet.angles if side == self.own_side else mirror(self.puppet.angles)
             target = clamp(angles, self.limits[side])
             speeds = [lim.velocity if self.tracking[side]
                       else min(self.approach_speed_rad_s, lim.velocity)
@@ -351,20 +272,15 @@ class Teleop:
         """Return {side: where Baxter's arm is now} for each arm that has just stopped following.
 
         Baxter in position mode goes on to the last command it got; commanding where it is
-        stops it at once instead of after its command timeout. Where it is now: the measured
-        pose moved on by the measured velocity for the measurement's age (at most
-        MAX_EXTRAPOLATION_S), since the arm moved on while the measurement travelled. Not while
-        Baxter is absent or disabled: its pose may be stale then.
+        stops it at once instead of after its command timeout (where it is now: BaxterWatch.now).
+        Not while Baxter is absent or disabled: its pose may be stale then.
         """
         if not self._robot_ok:
             return {}
         commands = {}
         for side in SIDES:
-            if was_following[side] and not self.following[side] and side in self._robot_pose:
-                measured_t, speeds = self._robot_motion[side]
-                age_s = min(max(t - measured_t, 0.0), MAX_EXTRAPOLATION_S)
-                commands[side] = clamp([a + v * age_s for a, v in
-                                        zip(self._robot_pose[side], speeds)], self.limits[side])
+            if was_following[side] and not self.following[side] and side in self.robot.pose:
+                commands[side] = self.robot.now(side, t)
         return commands
 
     def step(self, t):

@@ -5,10 +5,10 @@ import rospy
 from PyQt5 import QtCore, QtWidgets
 
 from robopuppet import settings
-from robopuppet.periodic import Guard
 from robopuppet.gui.puppet_client import PuppetClient, SimPuppetClient
 from robopuppet.gui.state import ArmState
 from robopuppet.gui.window import Window
+from robopuppet.periodic import Guard
 
 DEFAULT_FRAME_RATE_HZ = 30.0
 

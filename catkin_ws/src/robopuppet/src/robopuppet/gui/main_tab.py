@@ -5,7 +5,7 @@ from PyQt5 import QtCore, QtGui, QtWidgets
 
 from robopuppet import settings
 from robopuppet.gui import state
-from robopuppet.arm.teleop import HEARTBEAT_TIMEOUT_S
+from robopuppet.interface import HEARTBEAT_TIMEOUT_S
 
 LINK_STALE_S = 5.0       # diagnostics older than this are shown as not updating
 

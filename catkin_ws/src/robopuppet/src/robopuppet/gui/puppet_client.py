@@ -11,8 +11,8 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Empty, Float32, Float32MultiArray, String, UInt8
 
 from robopuppet import settings
-from robopuppet.protocol import codec
 from robopuppet.gui import state
+from robopuppet.protocol import codec
 from robopuppet_msgs.msg import TeleopState
 from robopuppet_msgs.srv import GetConfig
 

@@ -8,11 +8,11 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Empty, Float32, String, UInt8
 
 from robopuppet import settings
+from robopuppet.interface import HEARTBEAT_TIMEOUT_S
+from robopuppet.periodic import Guard, Loop
 from robopuppet.protocol import codec, device_commands, device_settings, state_set
 from robopuppet.protocol.device_settings import DeviceSettings
-from robopuppet.periodic import Guard, Loop
 from robopuppet.protocol.serial_link import SerialLink
-from robopuppet.arm.teleop import HEARTBEAT_TIMEOUT_S
 
 OPEN_RETRY_S = 0.5  # pause between attempts to open a missing or lost port
 WAKE_S = 1.0  # pause between re-opens of a silent device

@@ -11,8 +11,8 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32MultiArray, MultiArrayDimension, String, UInt8, UInt8MultiArray
 
 from robopuppet import settings
-from robopuppet.protocol import codec
 from robopuppet.periodic import Guard
+from robopuppet.protocol import codec
 from robopuppet.puppet_sim.puppet_model import PuppetFirmware
 from robopuppet.puppet_sim.puppet_wire import (POLL_PERIOD_S, FirmwareReceiver, OutputQueue, ReadSpan,
                                     UsbPacketModel, device_frame)

@@ -1,0 +1,80 @@
+"""RoboPuppet's ROS interface in one table: names, enumerations and timing every node shares.
+
+Nodes, the GUI, tests and benchmarks take topic and service names, opmodes, encoder statuses,
+teleop states and the puppet's timing from here, so that each fact has one place. Pure: no rospy.
+Baxter's own topics are Rethink's (baxter_core_msgs); the puppet's are the 2020 design's.
+"""
+
+# ---- sides ----------------------------------------------------------------------------------
+PUPPET_SIDES = ('L', 'R')           # a puppet arm: /puppet/arm_L, /puppet/arm_R
+BAXTER_SIDES = ('left', 'right')    # Baxter's arms, as its topics name them
+BAXTER_SIDE = {'L': 'left', 'R': 'right'}  # the Baxter arm that copies a puppet arm
+
+
+def check_side(side):
+    """Return a puppet side unchanged.
+
+    Raises:
+        ValueError: side is not 'L' or 'R'.
+    """
+    if side not in PUPPET_SIDES:
+        raise ValueError("arm side must be 'L' or 'R', got %r" % (side,))
+    return side
+
+
+# ---- the puppet arm's topics and services, under puppet_ns(side) ------------------------------
+def puppet_ns(side):
+    """Return the ROS namespace of a puppet arm, e.g. '/puppet/arm_R' (ValueError: bad side)."""
+    return '/puppet/arm_%s' % check_side(side)
+
+
+def sim_ns(side):
+    """Return the namespace of a simulated puppet's operator topics, e.g. '/puppet_sim/arm_R'."""
+    return '/puppet_sim/arm_%s' % check_side(side)
+
+
+def joint_topic(side, joint, name):
+    """Return a per-joint topic, e.g. joint_topic('R', 3, 'enc_stat') ->
+    '/puppet/arm_R/joint_3/enc_stat' (name: a setting, enc_stat, angle, voltage or setpoint)."""
+    return '%s/joint_%d/%s' % (puppet_ns(side), joint, name)
+
+
+def gripper_topic(side, gripper):
+    """Return a gripper reading's topic, e.g. '/puppet/arm_R/gripper_3'."""
+    return '%s/gripper_%d' % (puppet_ns(side), gripper)
+
+
+# Relative to puppet_ns(side):
+JOINT_STATES = 'joint_states'       # sensor_msgs/JointState: position rad, effort V (serial_X)
+GRIPPERS = 'grippers'               # std_msgs/Float32MultiArray, four readings (serial_X)
+USER_BUTTON = 'user_btn'            # std_msgs/UInt8, 0 none or 1..4 (serial_X)
+HEARTBEAT = 'heartbeat'             # std_msgs/Empty, one per firmware heartbeat (serial_X)
+OPMODE = 'opmode'                   # std_msgs/String, limp or hold (to serial_X)
+TELEOP_STATE = 'teleop_state'       # robopuppet_msgs/TeleopState, latched (arm_X)
+GET_CONFIG = 'get_config'           # robopuppet_msgs/GetConfig (config_X)
+SET_CONFIG = 'set_config'           # robopuppet_msgs/SetConfig (config_X)
+STORED_SETTINGS = 'stored_settings'  # robopuppet_msgs/ArmSettings, latched (config_X)
+# Relative to sim_ns(side): the simulated puppet's operator topics (puppet_sim_X).
+SIM_HAND, SIM_BUTTON, SIM_GRIPPERS, SIM_CONTROL = 'hand', 'button', 'grippers', 'control'
+DIAGNOSTICS = '/diagnostics'
+DEFAULT_SIM_LINK = '/tmp/robopuppet_arm_%s'  # % side: the simulated puppet's pty link
+
+# ---- puppet enumerations (the wire codes index these tuples) ----------------------------------
+OPMODES = ('limp', 'hold')
+LIMP, HOLD = OPMODES
+ENC_STATUS = ('Working', 'Disconnected', 'Uncalibrated')
+WORKING, DISCONNECTED, UNCALIBRATED = ENC_STATUS
+NUM_GRIPPERS = 4
+END_PIECE_GRIPPER = 3  # the pencil end piece's button: reads ~1 released, ~0 pressed
+NUM_BUTTONS = 4
+BUTTON_HOLD, BUTTON_LEFT, BUTTON_RIGHT = 1, 2, 3  # what arm_X does with buttons 1..3
+
+# ---- teleop states (robopuppet_msgs/TeleopState's constants) ----------------------------------
+TELEOP_STATES = ('no_robot', 'calibrating', 'ready', 'following', 'fault')
+NO_ROBOT, CALIBRATING, READY, FOLLOWING, FAULT = TELEOP_STATES
+
+# ---- timing ---------------------------------------------------------------------------------
+HEARTBEAT_PERIOD_S = 1.0     # the 2020 firmware sends a heartbeat every second
+HEARTBEAT_TIMEOUT_S = 2.5    # no heartbeat for this long: the puppet counts as silent
+DEFAULT_COMM_RATE_HZ = 10.0  # the 2020 firmware's state-set rate (a compile-time constant)
+STOP_WITHIN_S = 0.5          # a silent puppet stops Baxter following within this time
