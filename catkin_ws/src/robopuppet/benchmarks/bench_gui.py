@@ -29,7 +29,7 @@ import rospy
 from PyQt5 import QtCore, QtWidgets
 from std_msgs.msg import Empty, Float32, String
 
-from robopuppet import settings
+from robopuppet import interface, settings
 from robopuppet.gui.puppet_client import ConfigUnavailable, PuppetClient
 from robopuppet.gui.state import ArmState
 from robopuppet.gui.window import Window
@@ -72,7 +72,7 @@ def feed(arm, rate_hz, stop):
 def publish(rate_hz):
     """Publish all joints' angle, voltage and status at rate_hz, as serial_R would, until killed."""
     rospy.init_node('bench_gui_feed', anonymous=True)
-    ns = settings.namespace('R')
+    ns = interface.puppet_ns('R')
     pubs = [[rospy.Publisher('%s/joint_%d/%s' % (ns, joint, topic), kind, queue_size=10)
              for topic, kind in (('angle', Float32), ('voltage', Float32), ('enc_stat', String))]
             for joint in settings.JOINTS]

@@ -21,7 +21,7 @@ import tty
 
 import psutil
 
-from robopuppet import settings
+from robopuppet import interface, settings
 from robopuppet.protocol import codec
 
 from bench_support import percentile, private_roscore
@@ -32,7 +32,7 @@ STATE_RATES_HZ = (10, 100, 500)
 def bench_decoder(total_frames=300000):
     """Print decoder throughput for state-set traffic fed in chunks of several sizes."""
     state_set = [codec.JointState(j, 0, 0.1 * j, -0.5) for j in settings.JOINTS]
-    state_set += [codec.Gripper(g, 0.5) for g in range(codec.NUM_GRIPPERS)] + [codec.Buttons(0)]
+    state_set += [codec.Gripper(g, 0.5) for g in range(interface.NUM_GRIPPERS)] + [codec.Buttons(0)]
     one_set = b''.join(codec.encode(m) for m in state_set)
     stream = one_set * (total_frames // len(state_set))
     frames = len(state_set) * (total_frames // len(state_set))
@@ -72,7 +72,7 @@ class Device:
                           for j in settings.JOINTS)
         os.write(self.master, joints)
         written = time.perf_counter()
-        rest = [codec.Gripper(g, 0.5) for g in range(codec.NUM_GRIPPERS)] + [codec.Buttons(0)]
+        rest = [codec.Gripper(g, 0.5) for g in range(interface.NUM_GRIPPERS)] + [codec.Buttons(0)]
         heartbeat = codec.encode(codec.Heartbeat()) if seq % 10 == 0 else b''
         os.write(self.master, heartbeat + b''.join(codec.encode(m) for m in rest))
         return written

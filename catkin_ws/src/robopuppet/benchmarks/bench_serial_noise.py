@@ -18,7 +18,7 @@ import argparse
 import random
 import sys
 
-from robopuppet import settings
+from robopuppet import interface, settings
 from robopuppet.protocol import codec, state_set
 
 LIMITS_V = (-7.2, 7.2)  # the voltage limits the device holds (DESIGN section 5 defaults)
@@ -60,7 +60,7 @@ def real_set(seq):
     """The seq-th real state set: values vary with seq, all plausible."""
     joints = [codec.JointState(j, 0, ((seq * 7 + j) % 384) / 64.0 - 3.0,
                                ((seq + j) % 112) / 8.0 - 7.0) for j in settings.JOINTS]
-    grippers = [codec.Gripper(g, ((seq + g) % 64) / 64.0) for g in range(codec.NUM_GRIPPERS)]
+    grippers = [codec.Gripper(g, ((seq + g) % 64) / 64.0) for g in range(interface.NUM_GRIPPERS)]
     return joints + grippers + [codec.Buttons(seq % 5)]
 
 

@@ -56,21 +56,8 @@ RANGE_PAIRS = (('angle_min', 'angle_max'),
                ('voltage_min', 'voltage_max'))
 SIGNS = ('sign_angle', 'sign_motor')
 
-# Encoder status strings of the ROS interface (DESIGN section 4), indexed by the wire code.
-ENC_STATUS = ('Working', 'Disconnected', 'Uncalibrated')
-
 
 def section(joint):
     """Return the ini section name of a joint, e.g. 'joint_3'."""
     return 'joint_%d' % joint
 
-
-def namespace(side):
-    """Return the ROS namespace of a puppet arm, e.g. '/puppet/arm_R'.
-
-    Raises:
-        ValueError: side is not 'L' or 'R'.
-    """
-    if side not in ('L', 'R'):
-        raise ValueError("arm side must be 'L' or 'R', got %r" % (side,))
-    return '/puppet/arm_%s' % side

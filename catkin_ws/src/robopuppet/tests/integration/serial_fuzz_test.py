@@ -15,7 +15,7 @@ from roslaunch.core import Node
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Empty, Float32, UInt8
 
-from robopuppet import settings
+from robopuppet import interface, settings
 from robopuppet.protocol import codec
 from serial_test_support import NS, TempConfig, seed_values, wait_for
 
@@ -30,7 +30,7 @@ def real_set(seq):
     joints = [codec.JointState(0, 0, (seq % 320) / 128.0 - 1.25, 0.0),
               codec.JointState(1, 0, (seq // 320) / 128.0 - 1.25, 0.5)]
     joints += [codec.JointState(j, j % 3, 0.125 * j, -0.25 * j) for j in range(2, 7)]
-    grippers = [codec.Gripper(g, ((seq + g) % 64) / 64.0) for g in range(codec.NUM_GRIPPERS)]
+    grippers = [codec.Gripper(g, ((seq + g) % 64) / 64.0) for g in range(interface.NUM_GRIPPERS)]
     return joints + grippers + [codec.Buttons(seq % 5)]
 
 
@@ -69,7 +69,7 @@ class SerialFuzzTest(unittest.TestCase):
                              queue_size=100)]
         cls.subs += [rospy.Subscriber('%s/gripper_%d' % (NS, g), Float32, cls.keep,
                                       cls.grippers, queue_size=5000)
-                     for g in range(codec.NUM_GRIPPERS)]
+                     for g in range(interface.NUM_GRIPPERS)]
         cls.master, cls.slave = os.openpty()
         tty.setraw(cls.slave)
         cls.stop = False

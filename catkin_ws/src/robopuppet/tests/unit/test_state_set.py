@@ -6,7 +6,7 @@ import struct
 import pytest
 from hypothesis import given, settings as hsettings, strategies as st
 
-from robopuppet import settings
+from robopuppet import interface, settings
 from robopuppet.protocol import codec, state_set
 
 HEARTBEAT = codec.encode(codec.Heartbeat())
@@ -25,7 +25,7 @@ def set_messages(seq=0, button=0):
     """A plausible state set whose values depend on seq (exact in float32)."""
     joints = [codec.JointState(j, j % 3, (seq % 50) / 16.0 - 1.5, 0.25 * j - 1.0)
               for j in settings.JOINTS]
-    grippers = [codec.Gripper(g, 0.25 * g) for g in range(codec.NUM_GRIPPERS)]
+    grippers = [codec.Gripper(g, 0.25 * g) for g in range(interface.NUM_GRIPPERS)]
     return joints + grippers + [codec.Buttons(button)]
 
 

@@ -15,7 +15,6 @@ from std_msgs.msg import Bool, Empty, Float32, String, UInt8
 from robopuppet import baxter_description, interface, settings
 from robopuppet.arm import baxter_watch, teleop
 from robopuppet.periodic import Guard, Loop
-from robopuppet.protocol import codec
 from robopuppet_msgs.msg import TeleopState
 
 ROBOT_TIMEOUT_S = 1.0        # Baxter is absent when /robot/state or joint states are older
@@ -96,7 +95,7 @@ class ArmNode:
 
     def __init__(self):
         side = rospy.get_param('~arm_side')
-        self._ns = settings.namespace(side)
+        self._ns = interface.puppet_ns(side)
         self._name = 'arm_' + side
         self._period_s = 1.0 / positive_param('~command_rate', 100.0, MIN_COMMAND_RATE_HZ)
         description = baxter_description.load(baxter_description.urdf_path(
@@ -144,9 +143,9 @@ class ArmNode:
                          queue_size=10, tcp_nodelay=True)
         rospy.Subscriber(self._ns + '/heartbeat', Empty, self._on_heartbeat, queue_size=10)
         rospy.Subscriber(self._ns + '/user_btn', UInt8, self._on_button, queue_size=10)
-        rospy.Subscriber('%s/gripper_%d' % (self._ns, codec.END_PIECE_GRIPPER), Float32,
+        rospy.Subscriber('%s/gripper_%d' % (self._ns, interface.END_PIECE_GRIPPER), Float32,
                          self._on_end_piece, queue_size=10)
-        other = settings.namespace('L' if side == 'R' else 'R')
+        other = interface.puppet_ns('L' if side == 'R' else 'R')
         rospy.Subscriber(other + '/teleop_state', TeleopState, self._on_other_puppet,
                          queue_size=10)
         rospy.Subscriber('/robot/state', AssemblyState, self._on_robot_state, queue_size=10)

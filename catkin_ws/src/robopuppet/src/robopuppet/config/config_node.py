@@ -6,7 +6,7 @@ import rospkg
 import rospy
 from std_msgs.msg import Float32
 
-from robopuppet import settings
+from robopuppet import interface, settings
 from robopuppet.config import config_file, config_store
 from robopuppet_msgs.srv import GetConfig, GetConfigResponse
 
@@ -36,7 +36,7 @@ class ConfigNode:
 
     def __init__(self):
         side = rospy.get_param('~arm_side')
-        self._ns = settings.namespace(side)
+        self._ns = interface.puppet_ns(side)
         self._path = config_file.resolve_path(
             rospy.get_param('~file_name', 'arm_%s.ini' % side), rospkg.get_ros_home())
         self._lock = threading.Lock()

@@ -4,7 +4,7 @@ import sys
 import rospy
 from PyQt5 import QtCore, QtWidgets
 
-from robopuppet import settings
+from robopuppet import interface
 from robopuppet.gui.puppet_client import PuppetClient, SimPuppetClient
 from robopuppet.gui.state import ArmState
 from robopuppet.gui.window import Window
@@ -27,7 +27,7 @@ def read_params():
         ValueError: ~arm_side is not L or R, or ~frame_rate is not a positive number.
     """
     side = rospy.get_param('~arm_side')
-    settings.namespace(side)
+    interface.puppet_ns(side)
     frame_rate_hz = rospy.get_param('~frame_rate', DEFAULT_FRAME_RATE_HZ)
     if not isinstance(frame_rate_hz, (int, float)) or not 0 < frame_rate_hz <= 1000:
         raise ValueError('~frame_rate must be a number of Hz in (0, 1000], got %r'

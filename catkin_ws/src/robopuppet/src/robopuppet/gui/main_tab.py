@@ -3,14 +3,14 @@ import math
 
 from PyQt5 import QtCore, QtGui, QtWidgets
 
-from robopuppet import settings
+from robopuppet import interface, settings
 from robopuppet.gui import state
 from robopuppet.interface import HEARTBEAT_TIMEOUT_S
 
 LINK_STALE_S = 5.0       # diagnostics older than this are shown as not updating
 
 GREEN, AMBER, RED, GREY, BLUE = '#c8e6c9', '#ffe0b2', '#ffcdd2', '#e0e0e0', '#bbdefb'
-STATUS_COLOUR = dict(zip(settings.ENC_STATUS, (GREEN, RED, AMBER)))
+STATUS_COLOUR = dict(zip(interface.ENC_STATUS, (GREEN, RED, AMBER)))
 LINK_LEVEL = {0: ('OK', GREEN), 1: ('WARN', AMBER), 2: ('ERROR', RED), 3: ('STALE', GREY)}
 TELEOP_COLOUR = {'calibrating': AMBER, 'ready': BLUE, 'following': GREEN, 'fault': RED}
 GRIPPER_NAMES = ('gripper 0', 'gripper 1', 'gripper 2', 'end piece')

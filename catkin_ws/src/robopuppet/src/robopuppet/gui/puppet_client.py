@@ -10,9 +10,8 @@ from diagnostic_msgs.msg import DiagnosticArray
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Empty, Float32, Float32MultiArray, String, UInt8
 
-from robopuppet import settings
+from robopuppet import interface, settings
 from robopuppet.gui import state
-from robopuppet.protocol import codec
 from robopuppet_msgs.msg import TeleopState
 from robopuppet_msgs.srv import GetConfig
 
@@ -41,7 +40,7 @@ class PuppetClient:
 
     def __init__(self, side, arm_state, clock=rospy.get_time):
         self.side = side
-        self.ns = settings.namespace(side)
+        self.ns = interface.puppet_ns(side)
         self.state = arm_state
         self._clock = clock
         self._link_key = 'serial_%s' % side
@@ -58,7 +57,7 @@ class PuppetClient:
             sub('/diagnostics', DiagnosticArray, self._on_diagnostics,
                 queue_size=DIAGNOSTICS_QUEUE_SIZE),
         ]
-        for gripper in range(codec.NUM_GRIPPERS):
+        for gripper in range(interface.NUM_GRIPPERS):
             self._subscribers.append(sub('%s/gripper_%d' % (ns, gripper), Float32,
                                          self._on_gripper, callback_args=gripper))
         for joint in settings.JOINTS:
@@ -88,8 +87,8 @@ class PuppetClient:
         Hold first sends each joint's current angle as its setpoint: the firmware holds the
         setpoints it has (0 rad after limp), so a bare hold would drive the puppet to 0 rad.
         """
-        if opmode not in codec.OPMODES:
-            raise ValueError('opmode must be one of %s, got %r' % (codec.OPMODES, opmode))
+        if opmode not in interface.OPMODES:
+            raise ValueError('opmode must be one of %s, got %r' % (interface.OPMODES, opmode))
         if opmode == 'hold':
             for joint, values in enumerate(self.state.snapshot().joints):
                 if math.isfinite(values.angle_rad):

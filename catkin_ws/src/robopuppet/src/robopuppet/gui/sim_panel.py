@@ -3,8 +3,7 @@ import math
 
 from PyQt5 import QtCore, QtWidgets
 
-from robopuppet import settings
-from robopuppet.protocol import codec
+from robopuppet import interface, settings
 from robopuppet.puppet_sim.puppet_model import REST_GRIPPERS, REST_POSE_RAD
 
 SLIDER_STEPS_PER_RAD = 1000  # slider resolution: 1 mrad
@@ -46,7 +45,7 @@ class SimPanel(QtWidgets.QGroupBox):
         self.let_go_button = QtWidgets.QPushButton('let go of the puppet')
         self.let_go_button.clicked.connect(self.let_go)
         grid.addWidget(self.let_go_button, settings.NUM_JOINTS, 1)
-        for gripper in range(codec.END_PIECE_GRIPPER):
+        for gripper in range(interface.END_PIECE_GRIPPER):
             slider = self._slider(0, GRIPPER_STEPS)
             slider.setValue(int(round(REST_GRIPPERS[gripper] * GRIPPER_STEPS)))
             slider.valueChanged.connect(self._grippers_changed)
@@ -56,7 +55,7 @@ class SimPanel(QtWidgets.QGroupBox):
             self.gripper_sliders.append(slider)
         self.user_buttons = []
         buttons = QtWidgets.QHBoxLayout()
-        for button in range(1, codec.NUM_BUTTONS + 1):
+        for button in range(1, interface.NUM_BUTTONS + 1):
             widget = QtWidgets.QPushButton('button %d' % button)
             widget.setToolTip('held down while pressed (1: limp/hold, 2: left follows, '
                               '3: right follows)')

@@ -9,7 +9,7 @@ import math
 import threading
 
 from robopuppet import settings
-from robopuppet.protocol.codec import NUM_GRIPPERS, OPMODES
+from robopuppet.interface import NUM_GRIPPERS, OPMODES
 
 SERIES = ('angle', 'voltage', 'setpoint')
 

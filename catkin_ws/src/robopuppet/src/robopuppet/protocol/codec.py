@@ -11,18 +11,16 @@ import collections
 import math
 import struct
 
-from robopuppet import settings
+from robopuppet import interface, settings
 
 START = 0xA5
 TO_HOST = 'device->host'
 TO_DEVICE = 'host->device'
 
-NUM_GRIPPERS = 4
-END_PIECE_GRIPPER = 3  # the pencil end piece's button: reads ~1 released, ~0 pressed
-NUM_BUTTONS = 4
-OPMODES = ('limp', 'hold')  # indexed by the wire code of the opmode frame
-LIMP, HOLD = range(len(OPMODES))
-WORKING, DISCONNECTED, UNCALIBRATED = range(len(settings.ENC_STATUS))
+# Wire codes: the opmode frame's mode indexes interface.OPMODES, a joint state's status
+# interface.ENC_STATUS.
+LIMP, HOLD = range(len(interface.OPMODES))
+WORKING, DISCONNECTED, UNCALIBRATED = range(len(interface.ENC_STATUS))
 
 U8 = 'B'
 F32 = 'f'
@@ -47,10 +45,10 @@ def _message_type(class_name, msg_id, direction, *fields):
 
 # The message table: one row per frame of DESIGN section 3.
 Heartbeat = _message_type('Heartbeat', 0x00, TO_HOST)
-Opmode = _message_type('Opmode', 0x10, TO_DEVICE, ('mode', U8, len(OPMODES)))
+Opmode = _message_type('Opmode', 0x10, TO_DEVICE, ('mode', U8, len(interface.OPMODES)))
 JointState = _message_type('JointState', 0x20, TO_HOST,
                            ('joint', U8, settings.NUM_JOINTS),
-                           ('status', U8, len(settings.ENC_STATUS)),
+                           ('status', U8, len(interface.ENC_STATUS)),
                            ('angle_rad', F32), ('voltage_v', F32))
 JointConfig = _message_type('JointConfig', 0x30, TO_DEVICE,
                             ('joint', U8, settings.NUM_JOINTS),
@@ -59,8 +57,8 @@ JointConfig = _message_type('JointConfig', 0x30, TO_DEVICE,
 JointSetpoint = _message_type('JointSetpoint', 0x31, TO_DEVICE,
                               ('joint', U8, settings.NUM_JOINTS), ('angle_rad', F32))
 Gripper = _message_type('Gripper', 0x40, TO_HOST,
-                        ('gripper', U8, NUM_GRIPPERS), ('reading', F32))
-Buttons = _message_type('Buttons', 0x41, TO_HOST, ('button', U8, NUM_BUTTONS + 1))
+                        ('gripper', U8, interface.NUM_GRIPPERS), ('reading', F32))
+Buttons = _message_type('Buttons', 0x41, TO_HOST, ('button', U8, interface.NUM_BUTTONS + 1))
 
 MESSAGE_TYPES = (Heartbeat, Opmode, JointState, JointConfig, JointSetpoint, Gripper, Buttons)
 MAX_FRAME_LEN = 3 + max(t.STRUCT.size for t in MESSAGE_TYPES)

@@ -7,7 +7,7 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Empty, Float32, String, UInt8
 
-from robopuppet import settings
+from robopuppet import interface, settings
 from robopuppet.interface import HEARTBEAT_TIMEOUT_S
 from robopuppet.periodic import Guard, Loop
 from robopuppet.protocol import codec, device_commands, device_settings, state_set
@@ -74,7 +74,7 @@ class SerialNode:
 
     def __init__(self):
         side = rospy.get_param('~arm_side')
-        self._ns = settings.namespace(side)
+        self._ns = interface.puppet_ns(side)
         self._port_name = rospy.get_param('~port_name', '/dev/ttyACM0')
         topic_rate_hz = float(rospy.get_param('~joint_topic_rate', 100.0))
         self._silence_timeout_s = float(rospy.get_param('~silence_timeout', 3.0))
@@ -93,7 +93,7 @@ class SerialNode:
         self._status = [None] * settings.NUM_JOINTS
         self._seen = None  # publish joints of sets begun from this time; None: not loaded
         self._button = None
-        self._grippers = [None] * codec.NUM_GRIPPERS
+        self._grippers = [None] * interface.NUM_GRIPPERS
         self._next_topics_s = 0.0
         self._receiver = state_set.Receiver(self._voltage_limits, self._decoder)
         self._link = SerialLink(self._port_name, int(rospy.get_param('~baud_rate', 115200)),
@@ -120,7 +120,7 @@ class SerialNode:
              for j in settings.JOINTS]
             for topic, kind in (('angle', Float32), ('voltage', Float32), ('enc_stat', String))]
         self._pub_gripper = [rospy.Publisher('%s/gripper_%d' % (ns, g), Float32, queue_size=queue)
-                             for g in range(codec.NUM_GRIPPERS)]
+                             for g in range(interface.NUM_GRIPPERS)]
         self._pub_button = rospy.Publisher(ns + '/user_btn', UInt8, queue_size=queue)
         self._pub_diag = rospy.Publisher('/diagnostics', DiagnosticArray, queue_size=10)
 
@@ -215,7 +215,7 @@ class SerialNode:
                 joint = message.joint
                 self._positions[joint] = message.angle_rad
                 self._efforts[joint] = message.voltage_v
-                status = settings.ENC_STATUS[message.status]
+                status = interface.ENC_STATUS[message.status]
                 if status != self._status[joint]:
                     self._status[joint] = status
                     self._pub_stat[joint].publish(String(status))
@@ -269,13 +269,13 @@ class SerialNode:
         return True
 
     def _on_opmode(self, msg):
-        if msg.data not in codec.OPMODES:
+        if msg.data not in interface.OPMODES:
             rospy.logwarn('%s: opmode must be one of %s, got %r; ignored',
-                          self._name, '/'.join(codec.OPMODES), msg.data)
+                          self._name, '/'.join(interface.OPMODES), msg.data)
             return
         with self._host_lock:
             if msg.data != 'hold':
-                self._send([codec.Opmode(codec.OPMODES.index(msg.data))], 'opmode ' + msg.data)
+                self._send([codec.Opmode(interface.OPMODES.index(msg.data))], 'opmode ' + msg.data)
                 return
             plan = self._hold.plan_hold(self._settings.epoch)
             if plan.refusal:

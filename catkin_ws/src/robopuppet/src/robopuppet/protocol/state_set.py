@@ -25,7 +25,7 @@ so line noise decodes into frames that pass codec.Decoder. This layer adds what 
 import collections
 import math
 
-from robopuppet import settings
+from robopuppet import interface, settings
 from robopuppet.protocol import codec
 
 # An angle is wrapped to [-pi, pi] by the firmware; float32(pi) is a little above math.pi.
@@ -43,7 +43,7 @@ HEARTBEAT_SPACING_S = 0.8  # the firmware sends one every 1 s
 
 # The frames of one state set, in the order the firmware sends them: (type, index field).
 SET_ORDER = (tuple((codec.JointState, j) for j in settings.JOINTS)
-             + tuple((codec.Gripper, g) for g in range(codec.NUM_GRIPPERS))
+             + tuple((codec.Gripper, g) for g in range(interface.NUM_GRIPPERS))
              + ((codec.Buttons, None),))
 _POSITION = {key: index for index, key in enumerate(SET_ORDER)}
 _INDEX_FIELD = {codec.JointState: 'joint', codec.Gripper: 'gripper', codec.Buttons: None}

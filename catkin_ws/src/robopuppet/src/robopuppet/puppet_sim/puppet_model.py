@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from robopuppet import settings
+from robopuppet import interface, settings
 from robopuppet.protocol import codec
 from robopuppet.puppet_sim.puppet_arm import (NOMINAL_VOLTAGE_V, REST_GRIPPERS, REST_POSE_RAD,  # noqa: F401
                                    ArmPhysics, wrap)
@@ -112,15 +112,15 @@ class PuppetFirmware:
 
     def set_button(self, button):
         """Hold user button 1-4 down, or none (0). Raises ValueError for another value."""
-        if button not in range(codec.NUM_BUTTONS + 1):
-            raise ValueError('button must be 0-%d, got %r' % (codec.NUM_BUTTONS, button))
+        if button not in range(interface.NUM_BUTTONS + 1):
+            raise ValueError('button must be 0-%d, got %r' % (interface.NUM_BUTTONS, button))
         self.button = button
 
     def set_grippers(self, readings):
         """Set the four gripper readings, each clamped to 0-1. Raises ValueError otherwise."""
-        if len(readings) != codec.NUM_GRIPPERS or not all(math.isfinite(r) for r in readings):
+        if len(readings) != interface.NUM_GRIPPERS or not all(math.isfinite(r) for r in readings):
             raise ValueError('need %d finite gripper readings, got %r'
-                             % (codec.NUM_GRIPPERS, list(readings)))
+                             % (interface.NUM_GRIPPERS, list(readings)))
         self.grippers = [min(1.0, max(0.0, r)) for r in readings]
 
     # Host frames (the firmware's receive callbacks; fields are not range-checked) ------------

@@ -10,7 +10,7 @@ import rospy
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32MultiArray, MultiArrayDimension, String, UInt8, UInt8MultiArray
 
-from robopuppet import settings
+from robopuppet import interface, settings
 from robopuppet.periodic import Guard
 from robopuppet.protocol import codec
 from robopuppet.puppet_sim.puppet_model import PuppetFirmware
@@ -64,7 +64,7 @@ class PuppetSimNode:
 
     def __init__(self):
         side = rospy.get_param('~arm_side')
-        settings.namespace(side)  # validates the side
+        interface.puppet_ns(side)  # validates the side
         self._sim_ns = '/puppet_sim/arm_%s' % side
         self._link = rospy.get_param('~port_link', '/tmp/robopuppet_arm_%s' % side)
         missing = rospy.get_param('~hall_disconnected', [])
@@ -208,7 +208,7 @@ class PuppetSimNode:
             ticks = self._firmware.take_control_ticks()
             config = tuple(self._firmware.config[j][n]
                            for j in settings.JOINTS for n in settings.NAMES)
-            opmode = codec.OPMODES[self._firmware.opmode]
+            opmode = interface.OPMODES[self._firmware.opmode]
             ignored = self._firmware.ignored_frames
             states = [i for i, m in enumerate(out) if isinstance(m, codec.JointState)]
             noise = b''
