@@ -57,6 +57,10 @@ STORED_SETTINGS = 'stored_settings'  # robopuppet_msgs/ArmSettings, latched (con
 # Relative to sim_ns(side): the simulated puppet's operator topics (puppet_sim_X).
 SIM_HAND, SIM_BUTTON, SIM_GRIPPERS, SIM_CONTROL = 'hand', 'button', 'grippers', 'control'
 DIAGNOSTICS = '/diagnostics'
+# Each node's status of one arm on /diagnostics: hardware_id is puppet_ns(side) and the status
+# name ends with what it is about, so a reader finds it without knowing the node's name.
+DIAG_LINK = 'puppet serial link'   # serial_X
+DIAG_TELEOP = 'teleoperation'      # arm_X
 DEFAULT_SIM_LINK = '/tmp/robopuppet_arm_%s'  # % side: the simulated puppet's pty link
 
 # ---- puppet enumerations (the wire codes index these tuples) ----------------------------------
