@@ -3,15 +3,15 @@
 Data flows from the puppet to Baxter:
 
     puppet (or puppet_sim/) --serial--> protocol/ (serial_X) --topics--> arm/ (arm_X) --> Baxter
-                                             ^                                              (or
-    config/ (config_X: the ini file) --------+   gui/ (gui_X) watches and tunes all of it   baxter_sim/)
+                                             ^                                   (or baxter_sim/)
+    config/ (config_X: the ini file) --------+      gui/ (gui_X) watches and tunes all of it
 
 | folder        | role                                                        | may import      |
 |---------------|-------------------------------------------------------------|-----------------|
 | (top level)   | shared tables: interface (names, enumerations, timing),     | tables only     |
 |               | settings (the joint settings), baxter_description (URDF),   |                 |
 |               | periodic (guarded loops)                                    |                 |
-| config/       | config_X: the ini file's store, atomic file, the node       | tables          |
+| config/       | config_X: ini store, settings keeper, atomic file, the node | tables          |
 | baxter_sim/   | baxter_sim: the kinematic Baxter stand-in and its node      | tables          |
 | protocol/     | serial_X: frames, link, state sets, device settings, node   | tables, config  |
 | arm/          | arm_X: teleop state machine, puppet/Baxter watches, motion  | tables,protocol |
@@ -20,8 +20,8 @@ Data flows from the puppet to Baxter:
 |               |                                                             | protocol, arm,  |
 |               |                                                             | puppet_sim      |
 
-Within a folder the node adapter (`*_node.py`) is the only module that talks to ROS besides
-protocol.device_settings and gui.puppet_client; the others are pure (no rospy, no Qt outside
+Within a folder the node adapter (`*_node.py`) is the only module that talks to ROS (besides
+gui.puppet_client, the GUI's ROS client); the others are pure (no rospy, no Qt outside
 gui/) and take time as an argument. Only the executables in nodes/ import a `*_node` module.
 tests/unit/test_layout.py checks all of this.
 """

@@ -46,7 +46,6 @@ def gripper_topic(side, gripper):
 
 # Relative to puppet_ns(side):
 JOINT_STATES = 'joint_states'       # sensor_msgs/JointState: position rad, effort V (serial_X)
-GRIPPERS = 'grippers'               # std_msgs/Float32MultiArray, four readings (serial_X)
 USER_BUTTON = 'user_btn'            # std_msgs/UInt8, 0 none or 1..4 (serial_X)
 HEARTBEAT = 'heartbeat'             # std_msgs/Empty, one per firmware heartbeat (serial_X)
 OPMODE = 'opmode'                   # std_msgs/String, limp or hold (to serial_X)
@@ -54,14 +53,36 @@ TELEOP_STATE = 'teleop_state'       # robopuppet_msgs/TeleopState, latched (arm_
 GET_CONFIG = 'get_config'           # robopuppet_msgs/GetConfig (config_X)
 SET_CONFIG = 'set_config'           # robopuppet_msgs/SetConfig (config_X)
 STORED_SETTINGS = 'stored_settings'  # robopuppet_msgs/ArmSettings, latched (config_X)
-# Relative to sim_ns(side): the simulated puppet's operator topics (puppet_sim_X).
+# Relative to sim_ns(side): the simulated puppet's operator topics (puppet_sim_X), and what it
+# shows of the device for tests and the GUI.
 SIM_HAND, SIM_BUTTON, SIM_GRIPPERS, SIM_CONTROL = 'hand', 'button', 'grippers', 'control'
+SIM_LINE_NOISE = 'line_noise'
+SIM_DEVICE_CONFIG, SIM_DEVICE_OPMODE = 'device_config', 'device_opmode'
 DIAGNOSTICS = '/diagnostics'
 # Each node's status of one arm on /diagnostics: hardware_id is puppet_ns(side) and the status
 # name ends with what it is about, so a reader finds it without knowing the node's name.
 DIAG_LINK = 'puppet serial link'   # serial_X
 DIAG_TELEOP = 'teleoperation'      # arm_X
 DEFAULT_SIM_LINK = '/tmp/robopuppet_arm_%s'  # % side: the simulated puppet's pty link
+
+# ---- Baxter's own API (Rethink's names: the real robot's, served by baxter_sim too) -----------
+ROBOT_STATE = '/robot/state'
+ROBOT_JOINT_STATES = '/robot/joint_states'
+SET_SUPER_ENABLE = '/robot/set_super_enable'
+SET_SUPER_RESET = '/robot/set_super_reset'
+SET_SUPER_STOP = '/robot/set_super_stop'
+SOFTWARE_VERSION_PARAM = '/rethink/software_version'
+
+
+def limb_topic(side, name):
+    """Return a topic of one Baxter arm, e.g. limb_topic('left', 'joint_command')."""
+    return '/robot/limb/%s/%s' % (side, name)
+
+
+def baxter_gripper_topic(side, name):
+    """Return a topic of one Baxter gripper, e.g. '/robot/end_effector/left_gripper/state'."""
+    return '/robot/end_effector/%s_gripper/%s' % (side, name)
+
 
 # ---- puppet enumerations (the wire codes index these tuples) ----------------------------------
 OPMODES = ('limp', 'hold')

@@ -1,4 +1,4 @@
-"""The puppet's joint settings (DESIGN section 5): one table, used by every node.
+"""The puppet's joint settings (twelve per joint, as in 2020): one table, used by every node.
 
 A setting's index in SETTINGS is its config id on the wire (serial frame 0x30) and its field
 order in the GetConfig response. Its [low, high] is what the puppet's hardware can take (both

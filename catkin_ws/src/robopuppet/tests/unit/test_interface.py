@@ -35,6 +35,12 @@ def test_names():
         interface.BAXTER_SIDES)
 
 
+def test_baxter_topics_are_rethinks():
+    assert interface.limb_topic('left', 'joint_command') == '/robot/limb/left/joint_command'
+    assert interface.baxter_gripper_topic('right', 'command') == \
+        '/robot/end_effector/right_gripper/command'
+
+
 @pytest.mark.parametrize('side', ['X', 'l', '', None, 'left'])
 def test_a_bad_side_is_refused(side):
     with pytest.raises(ValueError, match="'L' or 'R'"):

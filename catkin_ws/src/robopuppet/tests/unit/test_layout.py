@@ -24,7 +24,7 @@ LAYERS = {
 # The modules that may talk to ROS: the node adapters (named *_node; only the executables in
 # nodes/ import them) and the adapters they use.
 ADAPTERS = {
-    'config.config_node', 'protocol.serial_node', 'protocol.device_settings', 'arm.arm_node',
+    'config.config_node', 'protocol.serial_node', 'arm.arm_node',
     'puppet_sim.puppet_sim_node', 'baxter_sim.baxter_sim_node', 'gui.gui_node',
     'gui.puppet_client',
 }
