@@ -21,6 +21,8 @@ import time
 import psutil
 
 from bench_support import percentile, private_roscore
+from robopuppet import baxter_description as bd, interface
+from robopuppet.interface import BAXTER_SIDES
 
 NODE = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), 'nodes',
                     'baxter_sim')
@@ -30,7 +32,6 @@ NOMINAL_S = 0.01
 def command_loop(rospy, publishers, stop):
     """Send both arms a slow sine wave in position mode at 100 Hz."""
     from baxter_core_msgs.msg import JointCommand
-    from robopuppet import baxter_description as bd
     rate = rospy.Rate(100)
     start = time.monotonic()
     while not stop.is_set() and not rospy.is_shutdown():
@@ -70,7 +71,7 @@ def listen(start, end):
             stamps.append(msg.header.stamp.to_sec())
 
     rospy.init_node('bench_baxter_sim_listener', disable_signals=True)
-    rospy.Subscriber('/robot/joint_states', JointState, on_joint_states, queue_size=100)
+    rospy.Subscriber(interface.ROBOT_JOINT_STATES, JointState, on_joint_states, queue_size=100)
     time.sleep(max(0.0, end - time.monotonic()) + 0.1)
     rospy.signal_shutdown('benchmark done')
     return stamps, arrivals
@@ -95,12 +96,12 @@ def main():
             from sensor_msgs.msg import JointState
             from std_msgs.msg import Bool
             rospy.init_node('bench_baxter_sim', disable_signals=True)
-            rospy.wait_for_message('/robot/joint_states', JointState, timeout=20.0)
-            enable = rospy.Publisher('/robot/set_super_enable', Bool, queue_size=1, latch=True)
+            rospy.wait_for_message(interface.ROBOT_JOINT_STATES, JointState, timeout=20.0)
+            enable = rospy.Publisher(interface.SET_SUPER_ENABLE, Bool, queue_size=1, latch=True)
             enable.publish(Bool(True))
-            publishers = {side: rospy.Publisher('/robot/limb/%s/joint_command' % side,
+            publishers = {side: rospy.Publisher(interface.limb_topic(side, 'joint_command'),
                                                 JointCommand, queue_size=10)
-                          for side in ('left', 'right')}
+                          for side in BAXTER_SIDES}
             stop = threading.Event()
             commander = threading.Thread(target=command_loop, args=(rospy, publishers, stop))
             commander.start()

@@ -12,6 +12,8 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
+from robopuppet.interface import BAXTER_SIDES
+
 
 def urdf_path(package_dir):
     """Return the path of baxter.urdf in a robopuppet package directory (source or installed).
@@ -25,8 +27,7 @@ def urdf_path(package_dir):
 # (and the devel space), wrong after `catkin_make install`, where nodes must use urdf_path().
 URDF_PATH = urdf_path(os.path.abspath(os.path.join(os.path.dirname(__file__), '..', '..')))
 
-SIDES = ('left', 'right')
-# Puppet joint J drives the J-th of these (DESIGN section 7).
+# Puppet joint J drives the J-th of these: shoulder s0 s1, elbow e0 e1, wrist w0 w1 w2.
 ARM_JOINT_SUFFIXES = ('s0', 's1', 'e0', 'e1', 'w0', 'w1', 'w2')
 # The pose the Rethink SDK calls neutral (rad), the same for both arms.
 NEUTRAL_POSE = {'s0': 0.0, 's1': -0.55, 'e0': 0.0, 'e1': 0.75, 'w0': 0.0, 'w1': 1.26, 'w2': 0.0}
@@ -42,7 +43,8 @@ lower/upper in rad or m, velocity in rad/s or m/s (None for fixed joints); mimic
 multiplier, offset) or None."""
 
 JointLimit = collections.namedtuple('JointLimit', 'name lower upper velocity')
-JointLimit.__doc__ = """Limits of one joint: position lower/upper (rad or m), velocity (rad/s or m/s)."""
+JointLimit.__doc__ = """Limits of one joint: position lower/upper (rad or m), velocity (rad/s or
+m/s)."""
 
 
 class DescriptionError(ValueError):
@@ -50,7 +52,7 @@ class DescriptionError(ValueError):
 
 
 def _check_side(side):
-    if side not in SIDES:
+    if side not in BAXTER_SIDES:
         raise ValueError("Baxter side must be 'left' or 'right', got %r" % (side,))
 
 
@@ -146,7 +148,7 @@ class Description:
             joint = _parse_joint(element)
             self.joints[joint.name] = joint
         self._by_child = {j.child: j for j in self.joints.values()}
-        for side in SIDES:
+        for side in BAXTER_SIDES:
             for name in arm_joint_names(side) + list(gripper_finger_joints(side)):
                 if name not in self.joints or self.joints[name].type == 'fixed':
                     raise DescriptionError('robot description lacks movable joint %r' % name)

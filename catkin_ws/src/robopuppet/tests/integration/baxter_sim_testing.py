@@ -3,6 +3,7 @@ import threading
 import time
 
 import rospy
+from rosgraph_msgs.msg import Log
 
 
 class Latest:
@@ -24,11 +25,27 @@ class Latest:
         with self.lock:
             self.log = []
 
+    def recorded(self):
+        """Return [(receive time s, message)] since record(), recording on."""
+        with self.lock:
+            return list(self.log)
+
     def stop_recording(self):
         """Stop recording; return [(receive time s, message)] since record()."""
         with self.lock:
             log, self.log = self.log, None
         return log
+
+
+def warnings(log, node='/baxter_sim'):
+    """Return the text of the warnings of node among /rosout messages [(time, Log)]."""
+    return [m.msg for _, m in log if m.name == node and m.level == Log.WARN]
+
+
+def warned(rosout, *words):
+    """Return True when rosout (a recording Latest of /rosout) holds a warning of the stand-in
+    with all of words."""
+    return any(all(w in line for w in words) for line in warnings(rosout.recorded()))
 
 
 def wait_for(test, timeout_s, what):

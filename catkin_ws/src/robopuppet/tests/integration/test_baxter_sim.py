@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""rostest: baxter_sim obeys Baxter's ROS API; its endpoint_state equals robot_state_publisher's tf."""
+"""rostest: baxter_sim obeys Baxter's ROS API; its endpoint_state equals robot_state_publisher's
+tf. Topic names are Rethink's, spelled out: the test checks the stand-in against them."""
 import json
 import math
 import os
@@ -13,11 +14,13 @@ import rostest
 import tf2_ros
 from baxter_core_msgs.msg import (AssemblyState, EndEffectorCommand, EndEffectorProperties,
                                   EndEffectorState, EndpointState, JointCommand)
+from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool, Empty
 
-from baxter_sim_testing import Latest, publisher, wait_for
+from baxter_sim_testing import Latest, publisher, wait_for, warned
 from robopuppet import baxter_description as bd
+from robopuppet.interface import BAXTER_SIDES
 
 URDF = os.path.join(rospkg.RosPack().get_path('robopuppet'), 'urdf', 'baxter.urdf')
 DESC = bd.load(URDF)
@@ -30,14 +33,15 @@ class BaxterSimTest(unittest.TestCase):
         cls.state = Latest('/robot/state', AssemblyState)
         cls.joints = Latest('/robot/joint_states', JointState)
         cls.endpoint = {s: Latest('/robot/limb/%s/endpoint_state' % s, EndpointState)
-                        for s in bd.SIDES}
+                        for s in BAXTER_SIDES}
         cls.gripper = Latest('/robot/end_effector/left_gripper/state', EndEffectorState)
         cls.props = Latest('/robot/end_effector/left_gripper/properties', EndEffectorProperties)
+        cls.rosout = Latest('/rosout', Log)
         cls.enable_pub = publisher('/robot/set_super_enable', Bool)
         cls.stop_pub = publisher('/robot/set_super_stop', Empty)
         cls.reset_pub = publisher('/robot/set_super_reset', Empty)
         cls.cmd_pub = {s: publisher('/robot/limb/%s/joint_command' % s, JointCommand)
-                       for s in bd.SIDES}
+                       for s in BAXTER_SIDES}
         cls.gripper_pub = publisher('/robot/end_effector/left_gripper/command',
                                     EndEffectorCommand)
         cls.tf_buffer = tf2_ros.Buffer()
@@ -97,17 +101,34 @@ class BaxterSimTest(unittest.TestCase):
 
     def test_commands_ignored_while_disabled(self):
         self.set_enabled(False)
-        before = self.positions()
-        self.command_for('right', JointCommand.RAW_POSITION_MODE, {'right_s0': 1.0}, 0.6)
-        self.assertEqual(self.positions()['right_s0'], before['right_s0'])
+        before = self.positions()['right_s0']
+        self.rosout.record()
+        self.joints.record()
+        # Until the stand-in says it refused them (it logs that at most every 2 s) and 30 joint
+        # states came in while they were sent.
+        self.command_until('right', JointCommand.RAW_POSITION_MODE, {'right_s0': before + 1.0},
+                           lambda: (warned(self.rosout, '/robot/limb/right/joint_command',
+                                           'robot disabled')
+                                    and len(self.joints.recorded()) > 30),
+                           10.0, 'the refusal of joint commands while disabled')
+        self.rosout.stop_recording()
+        for _, msg in self.joints.stop_recording():
+            self.assertEqual(dict(zip(msg.name, msg.position))['right_s0'], before)
 
     def test_stop_latches_until_reset(self):
         self.set_enabled(True)
         self.stop_pub.publish(Empty())
         wait_for(lambda: self.state.msg.stopped and not self.state.msg.enabled, 5.0, 'stopped')
-        self.enable_pub.publish(Bool(True))
-        time.sleep(0.5)
-        self.assertFalse(self.state.msg.enabled)
+        self.rosout.record()
+
+        def refused():
+            self.enable_pub.publish(Bool(True))
+            return warned(self.rosout, '/robot/set_super_enable', 'reset it first')
+        wait_for(refused, 5.0, 'the stand-in to refuse enabling while stopped')
+        self.rosout.stop_recording()
+        self.state.record()   # /robot/state comes at 20 Hz
+        wait_for(lambda: len(self.state.recorded()) >= 2, 5.0, 'two /robot/state messages')
+        self.assertFalse(any(msg.enabled for _, msg in self.state.stop_recording()))
         self.reset_pub.publish(Empty())
         wait_for(lambda: not self.state.msg.stopped, 5.0, 'reset')
         self.set_enabled(True)
@@ -136,7 +157,8 @@ class BaxterSimTest(unittest.TestCase):
                 if name in limits:
                     lim = limits[name]
                     self.assertTrue(lim.lower - 1e-9 <= new <= lim.upper + 1e-9, (name, new))
-                    self.assertLessEqual(abs(new - old), lim.velocity * dt + 1e-7, name)  # ns stamps
+                    # 1e-7: the stamps are rounded to ns
+                    self.assertLessEqual(abs(new - old), lim.velocity * dt + 1e-7, name)
 
     def test_arm_holds_when_commands_stop(self):
         self.set_enabled(True)
@@ -151,20 +173,25 @@ class BaxterSimTest(unittest.TestCase):
         # at 1.5 rad/s; without the timeout it would go on to start + 3.0.
         self.assertGreater(held - start, 0.5)
         self.assertLess(held - start, 1.5 * (last - first + 0.2 + 0.1))
-        time.sleep(0.5)
-        self.assertEqual(self.positions()['right_e0'], held)
+        self.joints.record()
+        wait_for(lambda: len(self.joints.recorded()) >= 50, 5.0, '50 more joint states')
+        for _, msg in self.joints.stop_recording():
+            self.assertEqual(msg.position[e0], held)
 
     def test_endpoint_state_equals_robot_state_publisher_tf(self):
         self.set_enabled(True)
         poses = [{'s0': 0.4, 's1': -0.3, 'e0': 1.1, 'e1': 1.2, 'w0': -0.7, 'w1': 0.9, 'w2': 2.0},
                  {'s0': -0.9, 's1': 0.5, 'e0': -2.0, 'e1': 0.3, 'w0': 2.5, 'w1': -1.2, 'w2': -1.0}]
         for pose in poses:
-            for side in bd.SIDES:
+            for side in BAXTER_SIDES:
                 targets = {'%s_%s' % (side, k): v for k, v in pose.items()}
                 self.command_until(side, JointCommand.RAW_POSITION_MODE, targets,
                                    lambda: self.at_targets(targets), 20.0, 'the pose %s' % targets)
-                time.sleep(0.3)   # robot_state_publisher's tf catches up with the held pose
+                reached = self.joints.msg.header.stamp
+                wait_for(lambda: self.endpoint[side].msg.header.stamp > reached, 5.0,
+                         'an endpoint_state of the held pose')
                 endpoint = self.endpoint[side].msg
+                # lookup_transform waits up to 1 s for robot_state_publisher's tf at the stamp.
                 tf = self.tf_buffer.lookup_transform('base', '%s_gripper' % side,
                                                      endpoint.header.stamp, rospy.Duration(1.0))
                 p, t = endpoint.pose.position, tf.transform.translation
@@ -197,15 +224,16 @@ class BaxterSimTest(unittest.TestCase):
         wait_for(lambda: self.acknowledged('calibrate', 11), 3.0, 'calibrate acknowledged')
         wait_for(lambda: self.gripper.msg.calibrated and self.gripper.msg.ready, 5.0,
                  'calibrated')
-        self.gripper_command('go', 12, hardware_id=props.id + 1)   # not this gripper: ignored
-        time.sleep(0.3)
-        self.assertFalse(self.acknowledged('go', 12))
         self.gripper.record()
+        # Not this gripper's id: ignored. The next command, on the same connection, is handled
+        # after it, so its acknowledgement proves that this one was seen.
+        self.gripper_command('go', 12, json.dumps({'position': 50.0}), hardware_id=props.id + 1)
         self.gripper_command('go', 13, json.dumps({'position': 0.0}))
         wait_for(lambda: self.acknowledged('go', 13), 3.0, 'go acknowledged')
         wait_for(lambda: self.gripper.msg.position == 0.0 and not self.gripper.msg.moving,
                  5.0, 'the gripper to close')
         log = [msg for _, msg in self.gripper.stop_recording()]
+        self.assertNotIn(12, [m.command_sequence for m in log])
         during = [m.position for m in log if m.command_sequence == 13]
         self.assertTrue(any(0.0 < p < 100.0 for p in during), 'fingers jumped, not moved')
         wait_for(lambda: self.positions()['l_gripper_l_finger_joint'] == 0.0, 2.0,

@@ -15,8 +15,9 @@ from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool, Empty, Float64
 
-from baxter_sim_testing import Latest, publisher, wait_for
+from baxter_sim_testing import Latest, publisher, wait_for, warned, warnings
 from robopuppet import baxter_description as bd
+from robopuppet.interface import BAXTER_SIDES
 
 GRIPPER_ID = 65538
 RATE_HZ = 100.0
@@ -79,21 +80,21 @@ class BaxterSimGarbageTest(unittest.TestCase):
 
     @classmethod
     def setUpClass(cls):
-        cls.limits = {lim.name: lim for side in bd.SIDES for lim in bd.arm_limits(side)}
-        cls.fingers = {name: bd.load().limit(name) for side in bd.SIDES
+        cls.limits = {lim.name: lim for side in BAXTER_SIDES for lim in bd.arm_limits(side)}
+        cls.fingers = {name: bd.load().limit(name) for side in BAXTER_SIDES
                        for name in bd.gripper_finger_joints(side)}
         cls.joints = Latest('/robot/joint_states', JointState)
         cls.state = Latest('/robot/state', AssemblyState)
         cls.endpoint = {s: Latest('/robot/limb/%s/endpoint_state' % s, EndpointState)
-                        for s in bd.SIDES}
+                        for s in BAXTER_SIDES}
         cls.gripper = {s: Latest('/robot/end_effector/%s_gripper/state' % s, EndEffectorState)
-                       for s in bd.SIDES}
+                       for s in BAXTER_SIDES}
         cls.rosout = Latest('/rosout', Log)
         cls.enable_pub = publisher('/robot/set_super_enable', Bool)
         cls.stop_pub = publisher('/robot/set_super_stop', Empty)
         cls.reset_pub = publisher('/robot/set_super_reset', Empty)
         cls.cmd_pub, cls.ratio_pub, cls.timeout_pub, cls.gripper_pub = {}, {}, {}, {}
-        for side in bd.SIDES:
+        for side in BAXTER_SIDES:
             limb = '/robot/limb/%s/' % side
             cls.cmd_pub[side] = publisher(limb + 'joint_command', JointCommand)
             cls.ratio_pub[side] = publisher(limb + 'set_speed_ratio', Float64)
@@ -103,19 +104,20 @@ class BaxterSimGarbageTest(unittest.TestCase):
         wait_for(lambda: cls.state.msg and cls.joints.msg, 20.0, 'the stand-in to publish')
 
     def enable(self):
+        """Reset the robot if it is stopped, then enable it (the state may lag: ask again)."""
         def enabled():
-            self.reset_pub.publish(Empty())
-            self.enable_pub.publish(Bool(True))
-            time.sleep(0.05)
-            return self.state.msg.enabled
+            state = self.state.msg
+            if state.stopped:
+                self.reset_pub.publish(Empty())
+            elif not state.enabled:
+                self.enable_pub.publish(Bool(True))
+            return state.enabled and not state.stopped
         wait_for(enabled, 10.0, 'the robot to be enabled')
 
-    def warnings(self, log):
-        return [m.msg for _, m in log if m.name == '/baxter_sim' and m.level == Log.WARN]
-
     def test_1_each_kind_of_refusal_is_logged(self):
+        # The first test on a fresh stand-in: nothing was refused before, so no kind of refusal
+        # is within its throttle interval.
         self.enable()
-        time.sleep(2.5)   # past the throttle interval of anything refused before
         self.rosout.record()
         for side, mode, names in [('left', JointCommand.VELOCITY_MODE, ['left_s0']),
                                   ('right', JointCommand.TORQUE_MODE, ['right_s0']),
@@ -127,16 +129,20 @@ class BaxterSimGarbageTest(unittest.TestCase):
         self.gripper_pub['right'].publish(EndEffectorCommand(
             id=GRIPPER_ID, command='go', args='{"position": ' + '[' * 4000, sender='t',
             sequence=1))
+        # Last on each topic, so handled after the repeats: a kind of refusal of its own.
+        for side in BAXTER_SIDES:
+            self.cmd_pub[side].publish(JointCommand(mode=1, names=['%s_s0' % side], command=[]))
+            self.gripper_pub[side].publish(EndEffectorCommand(
+                id=GRIPPER_ID, command='grip', args='', sender='t', sequence=2))
         wanted = [('mode 2', 'left'), ('mode 3', 'right'), ('right_s0', 'left arm'),
                   ('twice', 'left'), ('nested too deeply', 'right_gripper')]
-
-        def all_logged():
-            lines = self.warnings(self.rosout.log)
-            return all(any(a in line and b in line for line in lines) for a, b in wanted)
-        wait_for(all_logged, 5.0, 'a warning for each of %s' % wanted)
-        time.sleep(0.5)
-        lines = self.warnings(self.rosout.stop_recording())
-        self.assertEqual(len(lines), len(wanted), lines)
+        last = [('1 names but 0 values', 'left arm'), ('1 names but 0 values', 'right arm'),
+                ("'grip' is not supported", 'left_gripper'),
+                ("'grip' is not supported", 'right_gripper')]
+        wait_for(lambda: all(warned(self.rosout, *words) for words in wanted + last), 5.0,
+                 'a warning for each of %s' % (wanted + last))
+        lines = warnings(self.rosout.stop_recording())
+        self.assertEqual(len(lines), len(wanted + last), lines)
 
     def test_2_garbage_on_every_topic(self):
         self.enable()
@@ -147,7 +153,7 @@ class BaxterSimGarbageTest(unittest.TestCase):
         sent = 0
         stop_s, end_s = start + 3.0, start + 5.0    # last 2 s: enable, stop and reset too
         while time.monotonic() < end_s:
-            for side in bd.SIDES:
+            for side in BAXTER_SIDES:
                 self.cmd_pub[side].publish(rng.joint_command(side))
                 self.cmd_pub[side].publish(JointCommand(   # and valid motion in between
                     mode=rng.rng.choice([1, 4]), names=bd.arm_joint_names(side),
@@ -165,7 +171,10 @@ class BaxterSimGarbageTest(unittest.TestCase):
                 self.enable_pub.publish(Bool(rng.rng.random() < 0.5))
             time.sleep(0.002)
         duration_s = time.monotonic() - start
-        time.sleep(0.3)
+        wait_for(lambda: all(r.recorded() and r.recorded()[-1][0] > start + duration_s
+                             for r in [self.joints, *self.endpoint.values(),
+                                       *self.gripper.values()]),
+                 5.0, 'states published after the garbage')
         joints = self.joints.stop_recording()
         endpoints = {s: r.stop_recording() for s, r in self.endpoint.items()}
         grippers = {s: r.stop_recording() for s, r in self.gripper.items()}
@@ -189,7 +198,7 @@ class BaxterSimGarbageTest(unittest.TestCase):
                 self.assertTrue(limit.lower - 1e-9 <= position <= limit.upper + 1e-9,
                                 (name, position))
                 self.assertLessEqual(abs(velocity), limit.velocity + 1e-6, name)
-        for side in bd.SIDES:
+        for side in BAXTER_SIDES:
             self.assertGreater(len(endpoints[side]), 0.5 * RATE_HZ * duration_s)
             for _, msg in endpoints[side]:
                 p, o = msg.pose.position, msg.pose.orientation
@@ -202,14 +211,13 @@ class BaxterSimGarbageTest(unittest.TestCase):
         # And it still obeys: a sane command is followed to its target.
         self.enable()
         targets = {'right_s0': -0.4, 'right_e1': 1.0}
-        for side in bd.SIDES:
+        for side in BAXTER_SIDES:
             self.timeout_pub[side].publish(Float64(0.2))
             self.ratio_pub[side].publish(Float64(1.0))
 
         def reached():
             self.cmd_pub['right'].publish(JointCommand(mode=4, names=list(targets),
                                                        command=list(targets.values())))
-            time.sleep(0.02)
             positions = dict(zip(self.joints.msg.name, self.joints.msg.position))
             return all(abs(positions[n] - v) < 1e-6 for n, v in targets.items())
         wait_for(reached, 15.0, 'the right arm to reach %s after the garbage' % targets)

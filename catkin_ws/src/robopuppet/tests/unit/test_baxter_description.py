@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from robopuppet import baxter_description as bd
+from robopuppet.interface import BAXTER_SIDES
 
 DESC = bd.load()
 
@@ -59,7 +60,7 @@ def quaternion_matrix(q):
                      [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
 
 
-@pytest.mark.parametrize('side', bd.SIDES)
+@pytest.mark.parametrize('side', BAXTER_SIDES)
 def test_arm_joint_names_in_puppet_order(side):
     assert bd.arm_joint_names(side) == [side + s for s in
                                         ('_s0', '_s1', '_e0', '_e1', '_w0', '_w1', '_w2')]
@@ -70,7 +71,7 @@ def test_unknown_side_is_refused():
         bd.arm_joint_names('L')
 
 
-@pytest.mark.parametrize('side', bd.SIDES)
+@pytest.mark.parametrize('side', BAXTER_SIDES)
 def test_arm_limits_are_rethinks(side):
     limits = bd.arm_limits(side)
     assert [lim.name for lim in limits] == bd.arm_joint_names(side)
@@ -86,7 +87,7 @@ def test_head_and_fingers():
     assert DESC.joints['torso_t0'].type == 'fixed'
 
 
-@pytest.mark.parametrize('side', bd.SIDES)
+@pytest.mark.parametrize('side', BAXTER_SIDES)
 @pytest.mark.parametrize('angles', [
     (0, 0, 0, 0, 0, 0, 0),
     (0, -0.55, 0, 0.75, 0, 1.26, 0),

@@ -1,14 +1,14 @@
-"""Tests of robopuppet.baxter_sim.baxter_model and baxter_gripper: enable state, arm motion limits, timeout
-hold, refusals, hold at the measured pose, grippers."""
+"""Tests of robopuppet.baxter_sim.baxter_model and baxter_gripper: enable state, arm motion
+limits, timeout hold, refusals, hold at the measured pose, grippers."""
 import math
 
 import pytest
 
 from robopuppet import baxter_description as bd
 from robopuppet.baxter_sim.baxter_gripper import MAX_TEXT_CHARS
-from robopuppet.baxter_sim.baxter_model import (DEFAULT_COMMAND_TIMEOUT_S, SMOOTHING_TIME_S, BaxterModel,
-                                     CommandError, NotEnabledError, POSITION_MODE,
-                                     RAW_POSITION_MODE)
+from robopuppet.baxter_sim.baxter_model import (DEFAULT_COMMAND_TIMEOUT_S, POSITION_MODE,
+                                                RAW_POSITION_MODE, SMOOTHING_TIME_S, BaxterModel)
+from robopuppet.baxter_sim.baxter_refusals import CommandError, NotEnabledError
 
 DESC = bd.load()
 LEFT = bd.arm_joint_names('left')

@@ -1,4 +1,5 @@
-"""Tests of robopuppet.baxter_sim.baxter_refusals: number checks, short reprs, the refusal log throttle."""
+"""Tests of robopuppet.baxter_sim.baxter_refusals: number checks, short reprs, the refusal log
+throttle."""
 import math
 
 import pytest

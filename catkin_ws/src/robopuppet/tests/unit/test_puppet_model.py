@@ -5,8 +5,8 @@ import pytest
 
 from robopuppet import settings
 from robopuppet.protocol import codec
-from robopuppet.puppet_sim.puppet_model import (POWER_ON_SETTINGS, PuppetFirmware, QUAD_JOINTS,
-                                     REST_POSE_RAD)
+from robopuppet.puppet_sim.puppet_model import (POWER_ON_SETTINGS, QUAD_JOINTS, REST_POSE_RAD,
+                                                PuppetFirmware)
 
 ID = settings.CONFIG_ID
 # Limits a host loads before it expects the puppet to move or hold (the power-on ones are

@@ -1,4 +1,5 @@
-"""Unit tests of robopuppet.puppet_sim.puppet_wire: the firmware's receive logic and the USB packet model."""
+"""Unit tests of robopuppet.puppet_sim.puppet_wire: the firmware's receive logic and the USB
+packet model."""
 import math
 import random
 
@@ -7,8 +8,9 @@ import pytest
 from robopuppet import settings
 from robopuppet.protocol import codec
 from robopuppet.puppet_sim.puppet_model import PuppetFirmware
-from robopuppet.puppet_sim.puppet_wire import (SINGLE_WRITE_SPAN_S, FirmwareReceiver, OutputQueue,
-                                    ReadSpan, UsbPacketModel, device_frame)
+from robopuppet.puppet_sim.puppet_wire import (SINGLE_WRITE_SPAN_S, FirmwareReceiver,
+                                               OutputQueue, ReadSpan, UsbPacketModel,
+                                               device_frame)
 
 ID = settings.CONFIG_ID
 PACKET = 64

@@ -9,9 +9,7 @@ import math
 from robopuppet import baxter_description as bd
 from robopuppet.baxter_sim.baxter_gripper import GRIPPER_OPEN, Gripper, approach
 from robopuppet.baxter_sim.baxter_refusals import CommandError, NotEnabledError, brief, finite
-
-__all__ = ['BaxterModel', 'Arm', 'CommandError', 'NotEnabledError', 'GRIPPER_OPEN',
-           'POSITION_MODE', 'RAW_POSITION_MODE']
+from robopuppet.interface import BAXTER_SIDES
 
 POSITION_MODE = 1       # baxter_core_msgs/JointCommand.POSITION_MODE: smoothed, speed-ratio scaled
 RAW_POSITION_MODE = 4   # baxter_core_msgs/JointCommand.RAW_POSITION_MODE: at the velocity limit
@@ -128,12 +126,12 @@ class BaxterModel:
         self.description = description
         self.enabled = False
         self.stopped = False
-        self.arms = {side: Arm(side, description, now_s) for side in bd.SIDES}
-        self.fingers = {side: bd.gripper_finger_joints(side) for side in bd.SIDES}
-        travel_m = {side: description.limit(self.fingers[side][0]).upper for side in bd.SIDES}
+        self.arms = {side: Arm(side, description, now_s) for side in BAXTER_SIDES}
+        self.fingers = {side: bd.gripper_finger_joints(side) for side in BAXTER_SIDES}
+        travel_m = {side: description.limit(self.fingers[side][0]).upper for side in BAXTER_SIDES}
         self.finger_travel_m = travel_m
         self.grippers = {}
-        for side in bd.SIDES:
+        for side in BAXTER_SIDES:
             speed = description.limit(self.fingers[side][0]).velocity / travel_m[side] * 100.0
             self.grippers[side] = Gripper(speed, gripper_calibrated, now_s)
         self.head_pan_rad = 0.0
@@ -219,7 +217,7 @@ class BaxterModel:
     def positions(self):
         """Return {joint name: position} of every movable joint (rad, m for fingers)."""
         result = {bd.HEAD_PAN: self.head_pan_rad}
-        for side in bd.SIDES:
+        for side in BAXTER_SIDES:
             result.update(self.arms[side].positions)
             driven, mimic = self.fingers[side]
             opening_m = self.grippers[side].position / GRIPPER_OPEN * self.finger_travel_m[side]
@@ -233,7 +231,7 @@ class BaxterModel:
         """
         positions = self.positions()
         velocities = dict.fromkeys(positions, 0.0)
-        for side in bd.SIDES:
+        for side in BAXTER_SIDES:
             velocities.update(self.arms[side].velocities)
             driven, mimic = self.fingers[side]
             speed = (self.grippers[side].speed_pct_s / GRIPPER_OPEN

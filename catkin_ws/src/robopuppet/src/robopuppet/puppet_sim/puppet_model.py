@@ -1,7 +1,7 @@
 """A simulated puppet controller: the 2020 firmware's control loop and encoders, on the arm model.
 
 Pure: time is an argument, no clock, no I/O, no rospy. PuppetFirmware does what the 2020
-firmware does (doates625/RoboPuppet; DESIGN section 3, "What the real 2020 firmware does"):
+firmware does (its code: doates625/RoboPuppet; docs/serial.md, "puppet_sim_X"):
 heartbeat about every second and state sets at the state rate from power-on, and a 50 Hz control
 loop that reads the encoders, clamps each angle to [angle_min, angle_max], limits its rate to
 [velocity_min, velocity_max] and, in hold, runs one PID per joint on the wrapped error between
@@ -27,8 +27,8 @@ import numpy as np
 
 from robopuppet import interface, settings
 from robopuppet.protocol import codec
-from robopuppet.puppet_sim.puppet_arm import (NOMINAL_VOLTAGE_V, REST_GRIPPERS, REST_POSE_RAD,  # noqa: F401
-                                   ArmPhysics, wrap)
+from robopuppet.puppet_sim.puppet_arm import (NOMINAL_VOLTAGE_V, REST_GRIPPERS, REST_POSE_RAD,
+                                              ArmPhysics, wrap)
 
 CONTROL_RATE_HZ = 50.0
 HEARTBEAT_RATE_HZ = 1.0

@@ -1,12 +1,12 @@
 """The simulated puppet's side of the wire: the 2020 firmware's receive logic and USB packets.
 
 Pure: no I/O, no clock, no rospy. FirmwareReceiver reads bytes exactly as the firmware's
-SerialServer::rx() does (doates625/RoboPuppet, DESIGN section 3 "What the real 2020 firmware
-does"): each call sees only the bytes that have arrived; after a start byte it reads the rest of
-the frame at once, without waiting (a missing byte reads as -1, so a frame cut short is garbage);
-a byte that is not a start byte, or an unknown id, flushes everything that has arrived; a bad
-checksum drops that frame. Field values are not checked: joints out of range, any opmode byte,
-config ids above 11, NaN and infinite floats all reach the firmware model as they are.
+SerialServer::rx() does (doates625/RoboPuppet; docs/serial.md, "puppet_sim_X"): each call sees
+only the bytes that have arrived; after a start byte it reads the rest of the frame at once,
+without waiting (a missing byte reads as -1, so a frame cut short is garbage); a byte that is
+not a start byte, or an unknown id, flushes everything that has arrived; a bad checksum drops
+that frame. Field values are not checked: joints out of range, any opmode byte, config ids
+above 11, NaN and infinite floats all reach the firmware model as they are.
 
 UsbPacketModel cuts what the simulator reads from its pseudo-terminal into the USB packets the
 firmware would see one at a time (see its docstring for how it copes with the pty losing the

@@ -1,0 +1,191 @@
+"""Baxter's ROS API as the stand-in serves it, as plain data: commands in, log lines and states out.
+
+Pure: no rospy, no messages, no clock. BaxterApi sits between baxter_sim_node and BaxterModel
+and makes every decision that is not moving bytes: which refusals are logged (at most every
+WARN_INTERVAL_S per topic and reason), which enable changes are logged and republished, when
+/robot/state is due, and what each state message holds. Times: `now_s` is ROS time (s), which
+the model and the stamps share; `wall_s` is monotonic time (s), which only the log throttle uses.
+Not thread-safe: the node calls it under one lock.
+"""
+import collections
+import math
+
+from robopuppet.baxter_sim.baxter_refusals import CommandError, RefusalThrottle, brief
+from robopuppet.interface import BAXTER_SIDES
+
+SOFTWARE_VERSION = '1.2.0'  # the Rethink SDK release the stand-in claims to run
+
+# The electric gripper's hardware id; the SDK copies it from the state into every command.
+GRIPPER_ID = 65538
+GRIPPER_FIRMWARE_DATE = '2014/11/05 14:43:21'   # the SDK 1.2 warns for dates before 2014/05/20
+# Message constants (baxter_core_msgs): EndEffectorProperties.ELECTRIC_GRIPPER, AssemblyState's
+# ESTOP_BUTTON_UNPRESSED, ESTOP_SOURCE_NONE and ESTOP_SOURCE_USER.
+ELECTRIC_GRIPPER = 2
+ESTOP_BUTTON_UNPRESSED, ESTOP_SOURCE_NONE, ESTOP_SOURCE_USER = 0, 0, 1
+STATE_EVERY_N_CYCLES = 5        # /robot/state at rate_hz / 5 (and on every change)
+WARN_INTERVAL_S = 2.0           # a refusal is logged at most this often per topic and reason
+
+Reply = collections.namedtuple('Reply', 'warning change')
+Reply.__doc__ = """What a command leads to: `warning` a refusal line to log (None: taken, or
+refused too recently to log again); `change` an enable-state change to log, after which
+/robot/state must be published (None: no change)."""
+Cycle = collections.namedtuple('Cycle', 'joints poses grippers state_due')
+Cycle.__doc__ = """One publishing cycle: `joints` (names, positions rad or m, velocities rad/s or
+m/s, efforts), `poses` {side: ((x, y, z) m, (qx, qy, qz, qw)) of the gripper in base},
+`grippers` {side: EndEffectorState fields but the timestamp}, `state_due` (publish /robot/state
+too)."""
+
+
+def positive_param(name, value):
+    """Return a parameter's value as a finite float > 0.
+
+    Raises:
+        ValueError: naming the parameter, when the value is anything else.
+    """
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        number = math.nan
+    if not (math.isfinite(number) and number > 0.0) or isinstance(value, bool):
+        raise ValueError('parameter %s must be a number > 0, got %r' % (name, value))
+    return number
+
+
+def bool_param(name, value):
+    """Return a parameter's value when it is True or False.
+
+    Raises:
+        ValueError: naming the parameter, for anything else (also 1, 0 and 'true').
+    """
+    if not isinstance(value, bool):
+        raise ValueError('parameter %s must be true or false, got %r' % (name, value))
+    return value
+
+
+def gripper_properties(side):
+    """Return the EndEffectorProperties fields of a side's electric gripper."""
+    return dict(
+        id=GRIPPER_ID, ui_type=ELECTRIC_GRIPPER,
+        manufacturer='Rethink Research Robot', product='Electric Parallel Gripper',
+        serial_number='RP-SIM-%s' % side.upper(), hardware_rev='1', firmware_rev='1.2.0',
+        firmware_date=GRIPPER_FIRMWARE_DATE, has_calibration=True, controls_grip=True,
+        senses_grip=True, reverses_grip=False, controls_force=True, senses_force=True,
+        controls_position=True, senses_position=True, properties='')
+
+
+def gripper_state(gripper, enabled):
+    """Return the EndEffectorState fields (but the timestamp) of a baxter_gripper.Gripper.
+
+    `ready` is enabled, not moving and no error: what the SDK's calibrate waits for. Position
+    in % of the finger travel (0 closed).
+    """
+    command, sender, sequence = gripper.last_command
+    return dict(
+        id=GRIPPER_ID, enabled=enabled, calibrated=gripper.calibrated,
+        ready=enabled and not gripper.moving and not gripper.error, moving=gripper.moving,
+        gripping=False, missed=gripper.missed, error=gripper.error, reverse=False,
+        position=gripper.position, force=0.0, state='', command=command,
+        command_sender=sender, command_sequence=sequence)
+
+
+class BaxterApi:
+    """Obey Baxter's commands through a BaxterModel; say what to log and publish.
+
+    Each command method takes the topic it came on and `wall_s` last, and returns a Reply; a
+    refused command changes nothing.
+
+    Args:
+        model: a baxter_model.BaxterModel.
+        command_timeout_s: both arms' joint command timeout (s, > 0) until a message sets it.
+        warn_interval_s: the refusal log's interval per topic and reason (s).
+    """
+
+    def __init__(self, model, command_timeout_s, warn_interval_s=WARN_INTERVAL_S):
+        self.model = model
+        for side in BAXTER_SIDES:
+            model.set_command_timeout(side, command_timeout_s)
+        self.warn_interval_s = warn_interval_s
+        self._throttle = RefusalThrottle(warn_interval_s)
+        self._cycles = 0
+
+    # -- commands --
+    def joint_command(self, topic, side, mode, names, values, now_s, wall_s):
+        """A JointCommand (mode, joint names, targets rad) for one arm, received at now_s."""
+        return self._apply(topic, wall_s, self.model.joint_command, side, mode, names, values,
+                           now_s)
+
+    def speed_ratio(self, topic, side, ratio, wall_s):
+        """A set_speed_ratio (0..1) for one arm."""
+        return self._apply(topic, wall_s, self.model.set_speed_ratio, side, ratio)
+
+    def command_timeout(self, topic, side, timeout_s, wall_s):
+        """A joint_command_timeout (s) for one arm."""
+        return self._apply(topic, wall_s, self.model.set_command_timeout, side, timeout_s)
+
+    def gripper_command(self, topic, side, hardware_id, command, args, sender, sequence,
+                        wall_s):
+        """An EndEffectorCommand; one for another hardware id is refused unacknowledged."""
+        if hardware_id != GRIPPER_ID:
+            return Reply(self._refused(topic, CommandError(
+                'gripper command %s ignored: id %d is not this gripper\'s %d'
+                % (brief(command), hardware_id, GRIPPER_ID), 'wrong id'), wall_s), None)
+        return self._apply(topic, wall_s, self.model.gripper_command, side, command, args,
+                           sender, sequence)
+
+    def set_enabled(self, topic, enable, wall_s):
+        """A set_super_enable: enable (refused while stopped) or disable."""
+        return self._apply(topic, wall_s, self.model.set_enabled, enable)
+
+    def stop(self, topic, wall_s):
+        """A set_super_stop: disable and latch stopped."""
+        return self._apply(topic, wall_s, self.model.stop)
+
+    def reset(self, topic, wall_s):
+        """A set_super_reset: clear stopped; the robot stays disabled."""
+        return self._apply(topic, wall_s, self.model.reset)
+
+    def _apply(self, topic, wall_s, action, *args):
+        before = self.model.enabled, self.model.stopped
+        try:
+            action(*args)
+        except CommandError as error:
+            return Reply(self._refused(topic, error, wall_s), None)
+        return Reply(None, _change(before, (self.model.enabled, self.model.stopped)))
+
+    def _refused(self, topic, error, wall_s):
+        """Return the log line of a refusal, or None when its kind was logged too recently."""
+        skipped = self._throttle.report((topic, error.reason), wall_s)
+        if skipped is None:
+            return None
+        return 'refused on %s: %s (%s: logged at most every %g s%s)' % (
+            topic, error, error.reason, self.warn_interval_s,
+            '; %d more since the last line' % skipped if skipped else '')
+
+    # -- outputs --
+    def robot_state(self):
+        """Return the AssemblyState fields of /robot/state now (a stop is the user's e-stop)."""
+        enabled, stopped = self.model.enabled, self.model.stopped
+        return dict(ready=enabled and not stopped, enabled=enabled, stopped=stopped, error=False,
+                    estop_button=ESTOP_BUTTON_UNPRESSED,
+                    estop_source=ESTOP_SOURCE_USER if stopped else ESTOP_SOURCE_NONE)
+
+    def cycle(self, now_s):
+        """Advance the model to now_s (ROS time, s) and return what this cycle publishes."""
+        model = self.model
+        model.step(now_s)
+        self._cycles += 1
+        return Cycle(model.joint_state(),
+                     {side: model.endpoint_pose(side) for side in BAXTER_SIDES},
+                     {side: gripper_state(model.grippers[side], model.enabled)
+                      for side in BAXTER_SIDES},
+                     self._cycles % STATE_EVERY_N_CYCLES == 0)
+
+
+def _change(before, after):
+    """Return the log text of a change of (enabled, stopped), or None when nothing changed."""
+    if after == before:
+        return None
+    enabled, stopped = after
+    if stopped != before[1]:
+        return 'robot stopped' if stopped else 'robot reset (it stays disabled)'
+    return 'robot enabled' if enabled else 'robot disabled'
