@@ -18,6 +18,7 @@ import time
 import rospy
 from PyQt5 import QtCore, QtWidgets
 
+from robopuppet import interface
 from robopuppet.gui.puppet_client import PuppetClient, SimPuppetClient
 from robopuppet.gui.state import ArmState
 from robopuppet.gui.window import Window
@@ -33,7 +34,7 @@ class GaveUp(Exception):
 def scenario(window, out_dir, wave):
     """Yield seconds to wait (or a predicate to wait for) between the operator's actions."""
     panel, client = window.sim_panel, window.client
-    working = lambda: all(j.status == 'Working' for j in client.state.snapshot().joints)  # noqa
+    working = lambda: all(j.status == interface.WORKING for j in client.state.snapshot().joints)  # noqa
     yield lambda: client.state.snapshot().heartbeat_s is not None and window.sim.connected()
     for joint in (0, 2, 4, 6):  # quadrature encoders calibrate at their index mark (0 rad)
         for angle in (-0.6, 0.6, 0.2):

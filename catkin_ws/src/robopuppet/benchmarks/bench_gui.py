@@ -63,7 +63,7 @@ def feed(arm, rate_hz, stop):
         for joint in settings.JOINTS:
             arm.on_angle(joint, math.sin(now_s + joint), now_s)
             arm.on_voltage(joint, 5.0 * math.sin(3.0 * now_s + joint), now_s)
-            arm.on_status(joint, 'Working')
+            arm.on_status(joint, interface.WORKING)
         arm.on_heartbeat(now_s)
         next_s += period_s
         stop.wait(max(0.0, next_s - time.monotonic()))
@@ -72,18 +72,18 @@ def feed(arm, rate_hz, stop):
 def publish(rate_hz):
     """Publish all joints' angle, voltage and status at rate_hz, as serial_R would, until killed."""
     rospy.init_node('bench_gui_feed', anonymous=True)
-    ns = interface.puppet_ns('R')
-    pubs = [[rospy.Publisher('%s/joint_%d/%s' % (ns, joint, topic), kind, queue_size=10)
+    pubs = [[rospy.Publisher(interface.joint_topic('R', joint, topic), kind, queue_size=10)
              for topic, kind in (('angle', Float32), ('voltage', Float32), ('enc_stat', String))]
             for joint in settings.JOINTS]
-    heartbeat = rospy.Publisher(ns + '/heartbeat', Empty, queue_size=1)
+    heartbeat = rospy.Publisher('%s/%s' % (interface.puppet_ns('R'), interface.HEARTBEAT), Empty,
+                                queue_size=1)
     rate = rospy.Rate(rate_hz)
     while not rospy.is_shutdown():
         now_s = time.monotonic()
         for joint, (angle, voltage, status) in enumerate(pubs):
             angle.publish(math.sin(now_s + joint))
             voltage.publish(5.0 * math.sin(3.0 * now_s + joint))
-            status.publish('Working')
+            status.publish(interface.WORKING)
         heartbeat.publish()
         try:
             rate.sleep()
@@ -171,7 +171,7 @@ def main():
         feeder.start()
     window = Window(client, debug_mode=True)
     window.show()
-    client.state.on_opmode('hold', time.monotonic())
+    client.state.on_opmode(interface.HOLD, time.monotonic())
     joint = window.joint_tabs[3]
     size = window.size()
     print('window %dx%d, 7 joints fed at %.0f Hz (angle + voltage + enc_stat, and the '

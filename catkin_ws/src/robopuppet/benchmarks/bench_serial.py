@@ -4,10 +4,10 @@
 Usage (from the repository, after tools/setup.sh):
     . tools/env.sh && catkin_ws/src/robopuppet/benchmarks/bench_serial.py [--seconds 5]
 
-Starts its own roscore on a free port, serves a get_config with default settings, plays the
-puppet's microcontroller on a pseudo-terminal and runs the real serial node against it. For each
-state rate it writes state sets (seven joint states, four grippers, buttons); a set's first joint
-angle carries its sequence number. The latency of a set runs from the moment the write holding
+Starts its own roscore on a free port, publishes stored_settings with default settings (as
+config_X does), plays the puppet's microcontroller on a pseudo-terminal and runs the real serial node against it. For each
+state rate it writes state sets (seven joint states, four grippers, buttons); the angles of a
+set's joints 0 and 1 carry its sequence number (plausible angles, exact in float32). The latency of a set runs from the moment the write holding
 its last joint state frame returns to the moment its joint_states message reaches a subscriber
 in this process. Prints figures; passes or fails nothing.
 """
@@ -47,6 +47,16 @@ def bench_decoder(total_frames=300000):
               % (chunk, frames / seconds, frames, len(stream) / seconds / 1e6))
 
 
+def seq_angles(seq):
+    """Return the angles (rad) of joints 0 and 1 that carry a sequence number below 65536."""
+    return (seq % 256) / 128.0 - 1.0, (seq // 256) / 128.0 - 1.0
+
+
+def seq_of(angles_rad):
+    """Return the sequence number that seq_angles made into these angles."""
+    return int(round((angles_rad[0] + 1.0) * 128)) + 256 * int(round((angles_rad[1] + 1.0) * 128))
+
+
 class Device:
     """The benchmark's end of the pty: reads host frames, writes timed state sets."""
 
@@ -68,7 +78,8 @@ class Device:
 
     def write_set(self, seq):
         """Write one state set; return the perf_counter time its last joint frame was written."""
-        joints = b''.join(codec.encode(codec.JointState(j, 0, float(seq) if j == 0 else 0.25, 1.0))
+        angles = seq_angles(seq) + (0.25,) * (settings.NUM_JOINTS - 2)
+        joints = b''.join(codec.encode(codec.JointState(j, 0, angles[j], 1.0))
                           for j in settings.JOINTS)
         os.write(self.master, joints)
         written = time.perf_counter()
@@ -79,30 +90,34 @@ class Device:
 
 
 def bench_latency(seconds):
-    """Run roscore, a get_config server and serial_L; print latency, loss and CPU per rate."""
+    """Run roscore and serial_L, publish stored_settings; print latency, loss and CPU per rate."""
     import rospy
     from sensor_msgs.msg import JointState
     from std_msgs.msg import Float32
-    from robopuppet_msgs.srv import GetConfig, GetConfigResponse
+    from robopuppet_msgs.msg import ArmSettings, JointSettings
 
     device = Device()
     serial_node = None
     with private_roscore('bench_serial_'):
         try:
             rospy.init_node('bench_serial', disable_signals=True)
-            rospy.Service('/puppet/arm_L/get_config', GetConfig,
-                          lambda request: GetConfigResponse(**settings.DEFAULTS))
+            ns = interface.puppet_ns('L')
+            stored = rospy.Publisher('%s/%s' % (ns, interface.STORED_SETTINGS), ArmSettings,
+                                     queue_size=1, latch=True)
+            stored.publish(ArmSettings(joints=[JointSettings(joint=j, **settings.DEFAULTS)
+                                               for j in settings.JOINTS]))
             received = {}
             angle_count = [0]
 
             def on_states(msg):
-                received[int(msg.position[0])] = time.perf_counter()
+                received[seq_of(msg.position)] = time.perf_counter()
 
             def on_angle(msg):
                 angle_count[0] += 1
-            rospy.Subscriber('/puppet/arm_L/joint_states', JointState, on_states, queue_size=5000,
-                             tcp_nodelay=True)
-            rospy.Subscriber('/puppet/arm_L/joint_0/angle', Float32, on_angle, queue_size=5000)
+            rospy.Subscriber('%s/%s' % (ns, interface.JOINT_STATES), JointState, on_states,
+                             queue_size=5000, tcp_nodelay=True)
+            rospy.Subscriber(interface.joint_topic('L', 0, 'angle'), Float32, on_angle,
+                             queue_size=5000)
             serial_node = subprocess.Popen(
                 ['rosrun', 'robopuppet', 'serial_interface', '__name:=serial_L', '_arm_side:=L',
                  '_port_name:=%s' % device.path], stdout=subprocess.DEVNULL)

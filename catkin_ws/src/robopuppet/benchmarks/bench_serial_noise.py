@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Benchmark false frames from line noise, before and after robopuppet.protocol.state_set (issue 14.2).
+"""Benchmark false frames from line noise, before and after robopuppet.protocol.state_set.
 
 Usage (from the repository, after tools/setup.sh):
     . tools/env.sh && catkin_ws/src/robopuppet/benchmarks/bench_serial_noise.py \
@@ -21,7 +21,7 @@ import sys
 from robopuppet import interface, settings
 from robopuppet.protocol import codec, state_set
 
-LIMITS_V = (-7.2, 7.2)  # the voltage limits the device holds (DESIGN section 5 defaults)
+LIMITS_V = (settings.DEFAULTS['voltage_min'], settings.DEFAULTS['voltage_max'])  # V, held
 SET_PERIOD_S = 0.1
 HEARTBEAT_EVERY = 10  # sets
 

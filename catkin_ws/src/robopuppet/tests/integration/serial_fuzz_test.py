@@ -17,7 +17,7 @@ from std_msgs.msg import Empty, Float32, UInt8
 
 from robopuppet import interface, settings
 from robopuppet.protocol import codec
-from serial_test_support import NS, TempConfig, seed_values, wait_for
+from serial_test_support import StoredSettings, seed_values, topic, wait_for
 
 RATE_HZ = 100.0  # state sets, time-compressed (the firmware's 10 Hz would take too long)
 HEARTBEAT_EVERY = 100  # sets: one heartbeat a second, as the firmware sends
@@ -62,21 +62,23 @@ class SerialFuzzTest(unittest.TestCase):
         cls.states, cls.grippers, cls.buttons, cls.heartbeats = [], [], [], []
         cls.device_frames = []
         cls.subs = [
-            rospy.Subscriber(NS + '/joint_states', JointState, cls.keep, cls.states,
+            rospy.Subscriber(topic(interface.JOINT_STATES), JointState, cls.keep, cls.states,
                              queue_size=5000),
-            rospy.Subscriber(NS + '/user_btn', UInt8, cls.keep, cls.buttons, queue_size=5000),
-            rospy.Subscriber(NS + '/heartbeat', Empty, cls.keep, cls.heartbeats,
+            rospy.Subscriber(topic(interface.USER_BUTTON), UInt8, cls.keep, cls.buttons,
+                             queue_size=5000),
+            rospy.Subscriber(topic(interface.HEARTBEAT), Empty, cls.keep, cls.heartbeats,
                              queue_size=100)]
-        cls.subs += [rospy.Subscriber('%s/gripper_%d' % (NS, g), Float32, cls.keep,
+        cls.subs += [rospy.Subscriber(interface.gripper_topic('L', g), Float32, cls.keep,
                                       cls.grippers, queue_size=5000)
                      for g in range(interface.NUM_GRIPPERS)]
         cls.master, cls.slave = os.openpty()
         tty.setraw(cls.slave)
         cls.stop = False
         threading.Thread(target=cls.drain, daemon=True).start()
+        cls.stored = StoredSettings()
+        cls.stored.publish(values)
         cls.launch = roslaunch.scriptapi.ROSLaunch()
         cls.launch.start()
-        cls.config = TempConfig(cls.launch, seed_file)
         cls.serial = cls.launch.launch(Node(
             'robopuppet', 'serial_interface', name='serial_L', namespace='/',
             args='_arm_side:=L _port_name:=%s' % os.ttyname(cls.slave)))
@@ -85,7 +87,6 @@ class SerialFuzzTest(unittest.TestCase):
     def tearDownClass(cls):
         cls.stop = True
         cls.serial.stop()
-        cls.config.stop()
         cls.launch.stop()
         os.close(cls.master)
         os.close(cls.slave)
@@ -141,9 +142,13 @@ class SerialFuzzTest(unittest.TestCase):
             seq += 1
             next_s += period
             time.sleep(max(0.0, next_s - time.monotonic()))
+        for _ in range(3):  # then clean sets only: the last of them marks the end
+            self.write(b''.join(codec.encode(m) for m in real_set(seq)))
+            seq += 1
+            time.sleep(period)
         sent = range(first, seq)
-        wait_for(lambda: seq - 1 in self.received(), 5.0)
-        time.sleep(0.5)
+        self.assertIsNotNone(wait_for(lambda: seq - 1 in self.received(), 5.0),
+                             'the last clean set never arrived')
         received = self.received()
         with self.lock:
             states, grippers = list(self.states), list(self.grippers)

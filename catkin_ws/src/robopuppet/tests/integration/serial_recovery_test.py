@@ -10,7 +10,7 @@ import rospy
 import rostest
 from roslaunch.core import Node
 
-from serial_test_support import TempConfig, Watcher, seed_values, wait_for
+from serial_test_support import StoredSettings, Watcher, seed_values, wait_for
 
 RECOVERY_LIMIT_S = 2.0
 
@@ -20,15 +20,15 @@ class SerialRecoveryTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node('serial_recovery_test')
-        seed_file = rospy.get_param('~seed_file')
-        cls.seed = seed_values(seed_file)
+        cls.seed = seed_values(rospy.get_param('~seed_file'))
         cls.link = rospy.get_param('~link')
         cls.watch = Watcher()
+        cls.stored = StoredSettings()
+        cls.stored.publish(cls.seed)
         cls.launch = roslaunch.scriptapi.ROSLaunch()
         cls.launch.start()
         cls.sim = None
-        cls.config = TempConfig(cls.launch, seed_file)
-        time.sleep(1.0)  # let the log subscription connect before serial_L's first warning
+        cls.watch.listen()  # serial_L's first warning must be heard
         cls.serial = cls.launch.launch(Node(
             'robopuppet', 'serial_interface', name='serial_L', namespace='/',
             args='_arm_side:=L _port_name:=%s' % cls.link))
@@ -38,7 +38,6 @@ class SerialRecoveryTest(unittest.TestCase):
         if cls.sim is not None:
             cls.sim.stop()
         cls.serial.stop()
-        cls.config.stop()
         cls.launch.stop()
 
     def start_sim(self):
@@ -63,14 +62,20 @@ class SerialRecoveryTest(unittest.TestCase):
         rospy.loginfo('serial_L recovered %.2f s after the port appeared', took)
         return took
 
-    def warnings(self, text):
-        with self.watch.lock:
-            return [w for w in self.watch.warnings if text in w]
+    def wait_link_down_for(self, statuses):
+        """Wait until serial_L has said 'link down' in this many more statuses (1 Hz): it kept
+        retrying the port (every 0.5 s) all that time."""
+        since = time.monotonic()
+        self.assertIsNotNone(wait_for(lambda: self.watch.diagnostics_since(since) >= statuses
+                                      and self.watch.diagnostics.get('link') == 'down',
+                                      statuses + 5.0), self.watch.diagnostics)
 
     def test_1_missing_port_is_logged_once_then_found(self):
-        time.sleep(3.5)  # serial_L retries about once a second meanwhile
-        self.assertEqual(len(self.warnings('cannot open serial port')), 1, self.watch.warnings)
-        self.assertEqual(self.watch.diagnostics.get('link'), 'down')
+        self.assertIsNotNone(wait_for(
+            lambda: self.watch.warnings_with('cannot open serial port'), 10.0))
+        self.wait_link_down_for(3)
+        self.assertEqual(len(self.watch.warnings_with('cannot open serial port')), 1,
+                         self.watch.warnings)
         took = self.start_sim()
         self.assertIsNotNone(took, 'serial_L never loaded the settings')
         self.assertLess(took, RECOVERY_LIMIT_S)
@@ -78,34 +83,44 @@ class SerialRecoveryTest(unittest.TestCase):
 
     def test_2_unplug_and_replug(self):
         self.assertIsNotNone(wait_for(lambda: self.watch.device_config == self.seed, 10.0))
-        lost_before = len(self.warnings('lost'))
+        lost_before = len(self.watch.warnings_with('lost'))
         self.sim.stop()
         type(self).sim = None
         self.assertFalse(os.path.lexists(self.link))
-        self.assertIsNotNone(wait_for(lambda: self.watch.diagnostics.get('link') == 'down', 3.0))
-        time.sleep(3.0)
-        self.assertEqual(len(self.warnings('lost')), lost_before + 1, self.watch.warnings)
-        self.assertEqual(len(self.warnings('cannot open serial port')), 1, self.watch.warnings)
+        self.assertIsNotNone(wait_for(
+            lambda: len(self.watch.warnings_with('lost')) == lost_before + 1, 5.0))
+        self.wait_link_down_for(3)
+        self.assertEqual(len(self.watch.warnings_with('lost')), lost_before + 1,
+                         self.watch.warnings)
+        self.assertEqual(len(self.watch.warnings_with('cannot open serial port')), 1,
+                         self.watch.warnings)
         took = self.start_sim()
         self.assertIsNotNone(took, 'serial_L never reloaded the settings after the replug')
         self.assertLess(took, RECOVERY_LIMIT_S)
 
     def test_3_silent_device(self):
         self.assertIsNotNone(wait_for(lambda: self.watch.device_config == self.seed, 10.0))
-        connects = int(self.watch.diagnostics['connects'])
         pid = self.sim.get_info()['pid']
         os.kill(pid, signal.SIGSTOP)  # the device stops talking; its port stays
         try:
-            self.assertIsNotNone(wait_for(lambda: self.warnings('no frame from'), 6.0))
-            time.sleep(4.0)
-            self.assertEqual(len(self.warnings('no frame from')), 1, self.watch.warnings)
+            self.assertIsNotNone(wait_for(lambda: self.watch.warnings_with('no frame from'), 6.0))
+            # It re-opens the port every second: three more re-opens, one warning.
+            reopens = int(self.watch.diagnostics['connects'])
+            self.assertIsNotNone(wait_for(
+                lambda: int(self.watch.diagnostics['connects']) >= reopens + 3, 8.0),
+                self.watch.diagnostics)
+            self.assertEqual(len(self.watch.warnings_with('no frame from')), 1,
+                             self.watch.warnings)
+            diagnostics = self.watch.diagnostics
+            self.assertEqual((diagnostics['message'], diagnostics['settings loaded']),
+                             ('device silent', 'False'))
         finally:
             os.kill(pid, signal.SIGCONT)
         resumed = time.monotonic()
         self.assertIsNotNone(wait_for(lambda: len(self.watch.states_since(resumed)) >= 3, 5.0))
+        # Reloaded (the device may have restarted), and healthy again.
         self.assertIsNotNone(wait_for(
-            lambda: int(self.watch.diagnostics['connects']) > connects
-            and self.watch.diagnostics['settings loaded'] == 'True'
+            lambda: self.watch.diagnostics['settings loaded'] == 'True'
             and self.watch.diagnostics['level'] == 0, 5.0), self.watch.diagnostics)
 
 

@@ -1,11 +1,10 @@
 #!/usr/bin/python3
-"""rostest (issue 14 item 7): the real config node on a damaged, uncreatable, read-only or full
-file system: it repairs once, and otherwise keeps serving get_config and refuses every change."""
+"""rostest: the real config node on a damaged, uncreatable, read-only or full file system: it
+repairs once, and otherwise keeps serving get_config and stored_settings and refuses every
+change, from set_config and from the joint topics alike."""
 import os
-import re
 import shutil
 import tempfile
-import time
 import unittest
 
 import roslaunch
@@ -13,12 +12,12 @@ import rospy
 import rostest
 from std_msgs.msg import Float32
 
-from config_testing import FIXTURE, ConfigNodeRunner
+from config_testing import (FIXTURE, ConfigNodeRunner, StoredSettings, joint_values,
+                            set_config)
 from tmpfs_testing import tmpfs
-from robopuppet import settings
+from robopuppet import interface, settings
 from robopuppet.config import config_store
 
-LOG_LINE = re.compile(r'^\[rosout\]\[(\w+)\] \S+ \S+: (.*)$')  # the node's own log file
 # Torn lines, an unknown and a repeated section, a repeated option, out-of-bound values.
 DAMAGED = open(FIXTURE).read().replace(
     '[joint_4]', '[bogus]\npid_kp = 5\n[joint_4]', 1).replace(
@@ -35,8 +34,10 @@ class ConfigUnwritableTest(ConfigNodeRunner, unittest.TestCase):
         self.process = None
         self.log_file = None
         self.publishers = []
+        self.stored = StoredSettings()
 
     def tearDown(self):
+        self.stored.unregister()
         for pub in self.publishers:
             pub.unregister()  # a latched change must not reach the next test's node
         if self.process is not None:
@@ -44,41 +45,36 @@ class ConfigUnwritableTest(ConfigNodeRunner, unittest.TestCase):
         self.launch.stop()
         shutil.rmtree(self.dir)
 
-    def logs(self):
-        """Return [(level, message)] the running node logged so far (its rospy log file: the
-        lines of its first moments never reach a /rosout subscriber that connects later)."""
-        try:
-            with open(self.log_file, errors='replace') as log:
-                return [match.groups() for match in map(LOG_LINE.match, log) if match]
-        except FileNotFoundError:
-            return []
-
-    def wait_log(self, level, text):
-        deadline = time.monotonic() + 10
-        while not any(lvl == level and text in msg for lvl, msg in self.logs()):
-            self.assertLess(time.monotonic(), deadline, 'no log %r in %r' % (text, self.logs()))
-            time.sleep(0.05)
-        return [msg for lvl, msg in self.logs() if lvl == level and text in msg]
-
     def get(self, proxy, joint):
         response = proxy(joint)
         return {name: getattr(response, name) for name in settings.NAMES}
 
     def publish(self, joint, name, value):
-        pub = rospy.Publisher('/puppet/arm_R/joint_%d/%s' % (joint, name), Float32,
+        pub = rospy.Publisher(interface.joint_topic('R', joint, name), Float32,
                               queue_size=1, latch=True)
         pub.publish(Float32(value))
         self.publishers.append(pub)
 
-    def assert_serves_and_refuses(self, proxy, expected):
-        """get_config answers with `expected`; a change is refused loudly and changes nothing."""
+    def assert_serves_and_refuses(self, proxy, expected, reason):
+        """get_config and stored_settings hold `expected`; a change is refused loudly, naming
+        `reason`, and changes nothing."""
         self.wait_log('ERROR', 'CHANGES WILL NOT PERSIST')
         for joint in settings.JOINTS:
             self.assertEqual(self.get(proxy, joint), expected[joint])
+        start = self.stored.wait(0)
+        self.assertIsNotNone(start, 'stored_settings is published at start, also when unwritable')
+        self.assertEqual([joint_values(j) for j in start.joints],
+                         [expected[j] for j in settings.JOINTS])
+        response = set_config(3, pid_kd=0.75)
+        self.assertFalse(response.stored)
+        self.assertIn('changes will not persist', response.error)
+        self.assertIn(reason, response.error)
+        self.assertEqual(joint_values(response.settings), expected[3])
         self.publish(3, 'pid_kd', 0.75)
         refusal = self.wait_log('ERROR', 'refused joint 3 pid_kd = 0.75')
         self.assertIn('changes will not persist', refusal[0])
         self.assertEqual(self.get(proxy, 3), expected[3], 'the refused change is not served')
+        self.assertEqual([m.revision for m in self.stored.messages()], [0])
 
     def test_damaged_file_is_repaired_once_and_out_of_bound_values_are_named(self):
         path = os.path.join(self.dir, 'arm_R.ini')
@@ -107,14 +103,15 @@ class ConfigUnwritableTest(ConfigNodeRunner, unittest.TestCase):
         open(blocker, 'w').close()
         proxy = self.start_node(os.path.join(blocker, 'arm_R.ini'))
         expected, _ = config_store.parse(open(FIXTURE).read())
-        self.assert_serves_and_refuses(proxy, expected)
+        self.assert_serves_and_refuses(proxy, expected, 'cannot create')
         self.assertEqual(os.listdir(self.dir), ['not_a_dir'])
 
     def test_read_only_directory(self):
         with tmpfs(64, {'arm_R.ini': DAMAGED}, read_only=True) as disk:
             proxy = self.start_node(os.path.join(disk, 'arm_R.ini'))
             self.wait_log('ERROR', 'Read-only file system')
-            self.assert_serves_and_refuses(proxy, config_store.parse(DAMAGED)[0])
+            self.assert_serves_and_refuses(proxy, config_store.parse(DAMAGED)[0],
+                                           'Read-only file system')
             self.assertEqual(os.listdir(disk), ['arm_R.ini'])
             self.stop_node()
 
@@ -122,7 +119,8 @@ class ConfigUnwritableTest(ConfigNodeRunner, unittest.TestCase):
         with tmpfs(64, {'arm_R.ini': DAMAGED}, full=True) as disk:
             proxy = self.start_node(os.path.join(disk, 'arm_R.ini'))
             self.wait_log('ERROR', 'No space left on device')
-            self.assert_serves_and_refuses(proxy, config_store.parse(DAMAGED)[0])
+            self.assert_serves_and_refuses(proxy, config_store.parse(DAMAGED)[0],
+                                           'No space left on device')
             self.assertEqual(sorted(os.listdir(disk)), ['arm_R.ini', 'filler'],
                              'no empty backup, no temporary')
             self.assertEqual(open(os.path.join(disk, 'arm_R.ini')).read(), DAMAGED)

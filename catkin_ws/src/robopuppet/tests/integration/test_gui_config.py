@@ -1,6 +1,7 @@
 #!/usr/bin/python3
-"""The GUI's joint tab against the real config node: Set persists, Get reads back, bad entries
-are refused with nothing published.
+"""The GUI's joint tab against the real config node: Get shows what is stored, Set stores the
+edits in one set_config request and shows what is stored, a refusal shows why and keeps the
+edits, bad entries are refused with nothing sent.
 
 The test starts config_R itself with ROS_HOME and ~file_name in a fresh temporary directory and
 removes it at the end, so every run starts from the shipped settings and leaves nothing behind
@@ -16,12 +17,12 @@ import unittest
 import rospkg
 import rospy
 import rostest
-from std_msgs.msg import Float32
 
-from gui_testing import application, wait_for_subscribers, wait_until
+from config_testing import SERVICE, StoredSettings, set_config
+from gui_testing import application, wait_until
 from robopuppet import settings
 from robopuppet.config import config_store
-from robopuppet.gui import settings_form
+from robopuppet.gui import joint_tab, settings_form
 from robopuppet.gui.joint_tab import JointTab
 from robopuppet.gui.puppet_client import PuppetClient
 from robopuppet.gui.state import ArmState
@@ -44,17 +45,12 @@ class GuiConfigTest(unittest.TestCase):
             env=dict(os.environ, ROS_HOME=cls.home, ROS_LOG_DIR=os.path.join(cls.home, 'log')))
         cls.addClassCleanup(cls.stop_config_node)
         cls.client = PuppetClient('R', ArmState())
-        rospy.wait_for_service('/puppet/arm_R/get_config', 30.0)
-        cls.heard = []
-        cls.subs = [rospy.Subscriber('/puppet/arm_R/joint_%d/%s' % (JOINT, name), Float32,
-                                     lambda msg, n=name: cls.heard.append((n, msg.data)))
-                    for name in settings.NAMES]
-        pubs = [cls.client._setting_pubs[JOINT, name] for name in settings.NAMES]
-        assert wait_for_subscribers(pubs, 20.0), 'config node and test did not subscribe'
-        wait_until(lambda: all(s.get_num_connections() for s in cls.subs), 10.0)
+        cls.stored = StoredSettings()
+        rospy.wait_for_service(SERVICE, 30.0)
 
     @classmethod
     def stop_config_node(cls):
+        cls.stored.unregister()
         cls.config_node.send_signal(signal.SIGINT)
         try:
             cls.config_node.wait(10.0)
@@ -62,9 +58,6 @@ class GuiConfigTest(unittest.TestCase):
             cls.config_node.kill()
             cls.config_node.wait()
         shutil.rmtree(cls.home)
-
-    def setUp(self):
-        del self.heard[:]
 
     def tab(self):
         """Return a joint tab that has read the stored settings (Get, off the GUI thread)."""
@@ -74,47 +67,98 @@ class GuiConfigTest(unittest.TestCase):
         self.assertTrue(tab.message.text().startswith('read the stored'), tab.message.text())
         return tab
 
+    def set_and_wait(self, tab):
+        tab.set_button.click()
+        self.assertTrue(wait_until(lambda: not tab.busy(), 10.0), tab.message.text())
+
+    def revision(self):
+        """Return the latest stored_settings revision received, once one was received."""
+        self.assertTrue(wait_until(self.stored.messages, 10.0), 'no stored_settings')
+        return self.stored.messages()[-1].revision
+
+    def wait_revision(self, revision):
+        msg = wait_until(lambda: self.stored.wait(revision, 0.0), 10.0)
+        self.assertIsNotNone(msg, 'no stored_settings revision %d' % revision)
+        return msg
+
     def test_get_shows_the_stored_settings(self):
         stored = self.client.get_config(JOINT)
         tab = self.tab()
         for name in settings.NAMES:
             self.assertEqual(tab.fields[name].text(), settings_form.field_text(stored[name]))
 
-    def test_set_publishes_and_a_later_get_shows_it_persisted(self):
+    def test_set_stores_the_edits_in_one_request_and_shows_what_is_stored(self):
         tab = self.tab()
-        tab.fields['pid_kp'].setText('0.75')
-        tab.fields['angle_min'].setText('1.6')  # above the stored maximum: max must go first
+        revision = self.revision()
+        self.assertTrue(set_config(JOINT, pid_kd=0.125).stored, 'a change made elsewhere')
+        self.wait_revision(revision + 1)
+        tab.fields['pid_kp'].setText('0.750')
+        tab.fields['angle_min'].setText('1.6')  # above the stored maximum, with a new maximum
         tab.fields['angle_max'].setText('2.5')
-        tab.set_button.click()
-        self.assertTrue(wait_until(lambda: not tab.busy(), 10.0))
+        self.set_and_wait(tab)
         self.assertTrue(tab.message.text().startswith('saved'), tab.message.text())
-        self.assertTrue(wait_until(lambda: len(self.heard) >= 3, 5.0))
-        self.assertEqual(sorted(self.heard), [('angle_max', 2.5), ('angle_min', 1.600000023841858),
-                                              ('pid_kp', 0.75)])
-        fresh = self.tab()  # a new tab knows nothing but what Get reads
-        self.assertEqual(fresh.fields['pid_kp'].text(), '0.75')
-        self.assertEqual(fresh.fields['angle_min'].text(), '1.6')
-        self.assertEqual(fresh.fields['angle_max'].text(), '2.5')
+        self.assertEqual(tab.message.styleSheet(), joint_tab.OK_STYLE)
+        stored = self.wait_revision(revision + 2).joints[JOINT]
+        self.assertEqual((stored.pid_kp, stored.angle_max, stored.pid_kd), (0.75, 2.5, 0.125))
+        self.assertEqual(stored.angle_min, config_store.to_float32(1.6))
+        shown = {name: field.text() for name, field in tab.fields.items()}
+        self.assertEqual(shown, {name: settings_form.field_text(getattr(stored, name))
+                                 for name in settings.NAMES})
+        self.assertEqual((shown['pid_kp'], shown['pid_kd']), ('0.75', '0.125'),
+                         'the fields show what is stored, also a change made elsewhere')
         with open(self.ini_path) as ini:
             on_disk, _ = config_store.parse(ini.read())
         self.assertEqual(on_disk[JOINT]['pid_kp'], 0.75)
         self.assertEqual(on_disk[JOINT]['angle_max'], 2.5)
+        fresh = self.tab()  # a new tab knows nothing but what Get reads
+        self.assertEqual(fresh.fields['angle_min'].text(), '1.6')
 
-    def test_invalid_entries_are_refused_and_nothing_is_published(self):
+    def test_a_refused_request_shows_why_and_keeps_the_edits(self):
+        tab = self.tab()
+        revision = self.revision()
+        stored = self.client.get_config(JOINT)
+        # The maximum lowered to the minimum elsewhere after Get: the tab still shows the old
+        # maximum, so a new minimum up to it passes the tab's own checks.
+        self.assertTrue(set_config(JOINT, angle_max=stored['angle_min']).stored)
+        self.wait_revision(revision + 1)
+        typed_min = settings_form.field_text(stored['angle_max'])
+        tab.fields['angle_min'].setText(typed_min)
+        tab.fields['pid_ki'].setText('0.5')
+        self.set_and_wait(tab)
+        self.assertIn('refused by config_R', tab.message.text())
+        self.assertIn('angle_min = ', tab.message.text())
+        self.assertIn(': above angle_max = %s' % config_store.format_value(stored['angle_min']),
+                      tab.message.text())
+        self.assertEqual(tab.message.styleSheet(), joint_tab.ERROR_STYLE)
+        self.assertEqual(tab.fields['angle_min'].text(), typed_min)
+        self.assertEqual(tab.fields['pid_ki'].text(), '0.5')
+        self.assertEqual(tab.fields['angle_max'].text(),
+                         settings_form.field_text(stored['angle_max']), 'fields as they were')
+        # Nothing was stored: the next change is exactly one revision on.
+        self.assertTrue(set_config(JOINT, angle_max=stored['angle_max']).stored)
+        self.assertEqual(self.wait_revision(revision + 2).joints[JOINT].pid_ki,
+                         stored['pid_ki'])
+        self.assertEqual(self.revision(), revision + 2)
+
+    def test_invalid_entries_are_refused_and_nothing_is_sent(self):
+        revision = self.revision()
         before = self.client.get_config(JOINT)
         for name, text, words in (('pid_ki', 'twelve', 'not a number'),
                                   ('sign_motor', '0', 'sign'),
                                   ('voltage_min', '9', 'outside its bound'),
-                                  ('angle_max', '-3', 'below angle_min')):
+                                  ('angle_max', '-3', 'above angle_max = -3')):
             tab = self.tab()
             tab.fields[name].setText(text)
             tab.set_button.click()
-            self.assertIn('refused', tab.message.text())
+            self.assertFalse(tab.busy(), 'refused on the GUI thread, no call made')
+            self.assertIn('refused, nothing sent', tab.message.text())
             self.assertIn(words, tab.message.text())
             self.assertTrue(tab.message.isVisibleTo(tab))
-        wait_until(lambda: self.heard, 1.5)
-        self.assertEqual(self.heard, [])
         self.assertEqual(self.client.get_config(JOINT), before)
+        # Nothing was stored: the next change is exactly one revision on.
+        self.assertTrue(set_config(JOINT, pid_kd=before['pid_kd'] + 0.5).stored)
+        self.wait_revision(revision + 1)
+        self.assertEqual(self.revision(), revision + 1)
 
 
 if __name__ == '__main__':

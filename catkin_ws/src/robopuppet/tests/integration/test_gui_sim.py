@@ -1,21 +1,25 @@
 #!/usr/bin/python3
 """The GUI against the simulated arm: a slider moves the simulated hand and the main tab shows
-the puppet following; the buttons and the opmode control reach the puppet, and Hold keeps the
-puppet where it is."""
+the puppet following; the buttons and the opmode control reach the puppet, Hold keeps the
+puppet where it is, and a joint tab's Set reaches the device through config_R and serial_R."""
 import time
 import unittest
 
 import rospy
 import rostest
 from sensor_msgs.msg import JointState
-from std_msgs.msg import String
+from std_msgs.msg import Float32MultiArray, String
 
 from gui_testing import application, wait_until
+from robopuppet import interface, settings
+from robopuppet.config import config_store
+from robopuppet.gui.joint_tab import JointTab
 from robopuppet.gui.puppet_client import PuppetClient, SimPuppetClient
 from robopuppet.gui.state import ArmState
 from robopuppet.gui.window import Window
 
 JOINT = 1  # an absolute-encoder joint: Working from the start
+TUNED_JOINT = 5  # the joint whose D gain the settings test changes
 AWAY = [0.3, -0.4, 0.3, 0.5, -0.3, 0.4, 0.3]  # a hand pose away from 0 rad on every joint
 
 
@@ -31,12 +35,16 @@ class GuiSimTest(unittest.TestCase):
         cls.hands = []
         cls.opmodes = []
         cls.ticks = []  # (setpoints, reported angles) of each control tick in hold
-        rospy.Subscriber('/puppet_sim/arm_R/hand', JointState, cls.hands.append)
-        rospy.Subscriber('/puppet_sim/arm_R/device_opmode', String,
+        cls.device_configs = []  # (arrival s, the 84 settings the simulated device holds)
+        sim = interface.sim_ns('R')
+        rospy.Subscriber('%s/%s' % (sim, interface.SIM_HAND), JointState, cls.hands.append)
+        rospy.Subscriber('%s/%s' % (sim, interface.SIM_DEVICE_OPMODE), String,
                          lambda msg: cls.opmodes.append(msg.data))
-        rospy.Subscriber('/puppet_sim/arm_R/control', JointState,
+        rospy.Subscriber('%s/%s' % (sim, interface.SIM_CONTROL), JointState,
                          lambda msg: cls.ticks.append((list(msg.position), list(msg.velocity))),
                          queue_size=500)
+        rospy.Subscriber('%s/%s' % (sim, interface.SIM_DEVICE_CONFIG), Float32MultiArray,
+                         lambda msg: cls.device_configs.append((time.monotonic(), msg.data)))
 
     def cell(self, row, column):
         self.window.frame()
@@ -56,7 +64,7 @@ class GuiSimTest(unittest.TestCase):
         return all(abs(a - b) < 0.002 for a, b in zip(self.angles(), before))
 
     def test_a_slider_moves_the_simulated_hand_and_the_main_tab_shows_it(self):
-        self.assertTrue(wait_until(lambda: self.cell(JOINT, 0) == 'Working', 30.0),
+        self.assertTrue(wait_until(lambda: self.cell(JOINT, 0) == interface.WORKING, 30.0),
                         'joint %d never reported Working' % JOINT)
         self.assertTrue(wait_until(lambda: self.reported_angle() is not None, 10.0),
                         'joint %d shows no angle' % JOINT)
@@ -96,7 +104,8 @@ class GuiSimTest(unittest.TestCase):
         self.assertTrue(wait_until(self.angles_settled, 20.0), 'the puppet never settled')
         before = self.angles()
         tab.hold_radio.click()
-        self.assertTrue(wait_until(lambda: self.opmodes and self.opmodes[-1] == 'hold', 10.0),
+        self.assertTrue(wait_until(lambda: self.opmodes and self.opmodes[-1] == interface.HOLD,
+                                   10.0),
                         'device opmodes: %s' % self.opmodes)
         self.assertTrue(wait_until(lambda: len(self.ticks) >= 25, 10.0), 'no control ticks')
         zero = [tick for tick in self.ticks
@@ -106,7 +115,35 @@ class GuiSimTest(unittest.TestCase):
             self.assertLess(max(abs(s - a) for s, a in zip(setpoints, before)), 0.02,
                             'setpoints %s, puppet was at %s' % (setpoints, before))
         tab.limp_radio.click()
-        self.assertTrue(wait_until(lambda: self.opmodes[-1] == 'limp', 10.0))
+        self.assertTrue(wait_until(lambda: self.opmodes[-1] == interface.LIMP, 10.0))
+
+    def device_kd(self):
+        """Return the D gain of TUNED_JOINT that the simulated device holds, and since when."""
+        if not self.device_configs:
+            return None, None
+        arrival_s, values = self.device_configs[-1]
+        return values[TUNED_JOINT * len(settings.NAMES) + settings.CONFIG_ID['pid_kd']], arrival_s
+
+    def test_a_set_in_a_joint_tab_reaches_the_device_as_soon_as_it_is_stored(self):
+        """One path, no timers: Set -> set_config (config_R stores it and publishes
+        stored_settings) -> serial_R sends what differs -> the device holds it."""
+        tab = JointTab(self.client, TUNED_JOINT)
+        tab.get()
+        self.assertTrue(wait_until(lambda: not tab.busy(), 10.0), tab.message.text())
+        self.assertTrue(wait_until(lambda: self.device_kd()[0] == tab.stored['pid_kd'], 20.0),
+                        'the device never held the stored settings: %s' % (self.device_kd(),))
+        new_kd = config_store.to_float32(tab.stored['pid_kd'] + 0.125)
+        tab.fields['pid_kd'].setText(repr(new_kd))
+        tab.set_button.click()
+        self.assertTrue(wait_until(lambda: not tab.busy(), 10.0), tab.message.text())
+        answered_s = time.monotonic()
+        self.assertTrue(tab.message.text().startswith('saved'), tab.message.text())
+        # The simulated device reports its settings at most every 0.1 s: held within 0.5 s of
+        # the answer means no re-read timer (the old path took 0.2 s, or 2 s, to re-read).
+        self.assertTrue(wait_until(lambda: self.device_kd()[0] == new_kd, 0.5),
+                        'device D gain %s, stored %s' % (self.device_kd()[0], new_kd))
+        rospy.loginfo('set_config answer to device: %.3f s',
+                      self.device_kd()[1] - answered_s)
 
 
 if __name__ == '__main__':

@@ -1,4 +1,4 @@
-"""Unit tests of robopuppet.protocol.codec: the serial frames of DESIGN section 3."""
+"""Unit tests of robopuppet.protocol.codec: the puppet's serial frames (docs/serial.md)."""
 import math
 import struct
 

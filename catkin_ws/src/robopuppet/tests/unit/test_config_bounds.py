@@ -1,4 +1,4 @@
-"""Plausibility bounds of the joint settings (issue 14 item 10): what the hardware can take."""
+"""Plausibility bounds of the joint settings: what the hardware can take."""
 import math
 import os
 
@@ -41,7 +41,7 @@ def test_the_shipped_files_are_within_the_bounds(name):
 def test_a_value_outside_its_bound_is_refused_naming_joint_setting_value_and_bound(
         name, value, bound):
     with pytest.raises(config_store.InvalidSetting) as error:
-        config_store.validate(config_store.defaults()[5], 5, name, value)
+        config_store.check_request(config_store.defaults()[5], 5, [name], [value])
     message = str(error.value)
     assert message.startswith('joint 5 %s = %r: outside its bound' % (name, value)), message
     assert bound in message
@@ -53,8 +53,8 @@ def test_a_value_outside_its_bound_is_refused_naming_joint_setting_value_and_bou
     ('velocity_max', 4 * math.pi), ('sign_motor', -1.0),
 ])
 def test_a_value_on_its_bound_is_accepted(name, value):
-    assert config_store.validate(config_store.defaults()[0], 0, name, value) == \
-        config_store.to_float32(value)
+    stored = config_store.check_request(config_store.defaults()[0], 0, [name], [value])
+    assert stored[name] == config_store.to_float32(value)
 
 
 def test_an_out_of_bound_value_in_the_file_is_repaired_like_a_damaged_entry():

@@ -1,5 +1,5 @@
-"""Config file hardening (issue 14 item 7): a repair is clean once; an unwritable file or a full
-disk leaves the settings readable, the file as it was and nothing half-written beside it."""
+"""Config file hardening: a repair is clean once; an unwritable file or a full disk leaves the
+settings readable, the file as it was and nothing half-written beside it."""
 import errno
 import os
 import random

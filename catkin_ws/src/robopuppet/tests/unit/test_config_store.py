@@ -64,37 +64,38 @@ def test_render_only_touches_the_named_entry():
 
 
 @pytest.mark.parametrize('name, value, message', [
-    ('angle_min', float('nan'), 'not a finite'),
-    ('pid_kp', float('inf'), 'not a finite'),
-    ('pid_kp', 1e39, 'not a finite'),
-    ('sign_angle', 0.5, 'sign must be'),
-    ('sign_motor', 0.0, 'sign must be'),
-    ('angle_min', 2.0, 'above angle_max'),
-    ('velocity_max', -7.0, 'below velocity_min'),
-    ('voltage_min', 7.0, 'above voltage_max'),
-    ('no_such_setting', 1.0, 'unknown setting'),
-    ('pid_kp', 'abc', 'not a number'),
+    ('angle_min', float('nan'), 'joint 4 angle_min = nan: not a finite'),
+    ('pid_kp', float('inf'), 'joint 4 pid_kp = inf: not a finite'),
+    ('pid_kp', 1e39, 'joint 4 pid_kp = 1e+39: not a finite'),
+    ('sign_angle', 0.5, 'joint 4 sign_angle = 0.5: a sign must be'),
+    ('sign_motor', 0.0, 'joint 4 sign_motor = 0.0: a sign must be'),
+    ('angle_min', 2.0, 'joint 4 angle_min = 2.0: above angle_max = 1.571'),
+    ('velocity_max', -7.0, 'joint 4 velocity_max = -7.0: below velocity_min = -6.283'),
+    ('voltage_min', 7.0, 'joint 4 voltage_min = 7.0: above voltage_max = 6.5'),
+    ('no_such_setting', 1.0, "joint 4: unknown setting 'no_such_setting'"),
+    ('pid_kp', 'abc', "joint 4 pid_kp = 'abc': not a number"),
 ])
-def test_validate_refuses_bad_values_naming_joint_setting_and_value(name, value, message):
+def test_a_one_setting_request_refuses_bad_values_naming_joint_setting_and_value(
+        name, value, message):
     values = config_store.defaults()[4]
     values['voltage_max'] = 6.5
     with pytest.raises(config_store.InvalidSetting) as error:
-        config_store.validate(values, 4, name, value)
-    assert message in str(error.value)
-    assert 'joint 4' in str(error.value)
+        config_store.check_request(values, 4, [name], [value])
+    assert str(error.value).startswith(message), str(error.value)
 
 
 @pytest.mark.parametrize('joint', [-1, 7, 9, 255, 1.5])
-def test_validate_refuses_joints_outside_0_to_6(joint):
+def test_a_request_for_a_joint_outside_0_to_6_is_refused(joint):
     with pytest.raises(config_store.InvalidSetting, match='valid joints are 0-6'):
-        config_store.validate(config_store.defaults()[0], joint, 'pid_kp', 1.0)
+        config_store.check_request(config_store.defaults()[0], joint, ['pid_kp'], [1.0])
 
 
-def test_validate_accepts_good_values_rounded_to_float32():
+def test_a_request_returns_all_settings_with_good_values_rounded_to_float32():
     values = config_store.defaults()[0]
-    assert config_store.validate(values, 0, 'sign_angle', -1) == -1.0
-    assert config_store.validate(values, 0, 'angle_max', 1.571) == values['angle_max']
-    assert config_store.validate(values, 0, 'pid_kp', 0.1) == config_store.to_float32(0.1)
+    result = config_store.check_request(values, 0, ['sign_angle', 'angle_max', 'pid_kp'],
+                                        [-1, 1.571, 0.1])
+    assert result == dict(values, sign_angle=-1.0, pid_kp=config_store.to_float32(0.1))
+    assert values == config_store.defaults()[0], 'the stored values are not changed in place'
 
 
 @pytest.mark.parametrize('text, problem', [

@@ -1,56 +1,44 @@
-"""Unit tests of robopuppet.protocol.device_settings with a fake get_config and link (no ROS master)."""
+"""Unit tests of robopuppet.protocol.device_settings: a fake clock and a decoding fake device."""
 import math
-import threading
-import time
 
-import rospy
+import pytest
 
 from robopuppet import settings
-from robopuppet.config import config_store
-from robopuppet.protocol import codec, device_settings
-from robopuppet_msgs.srv import GetConfigResponse
+from robopuppet.protocol import codec, device_commands, device_settings
 
 ID = settings.CONFIG_ID
+SOURCE = '/puppet/arm_L/stored_settings'
+PAUSE_S = device_commands.LOAD_PAUSE_S
 
 
-class FakeConfigNode:
-    """Serves get_config from a dict; can be down, or hung (a call blocks until released)."""
+class Clock:
+    """Monotonic seconds that move only when the test says so."""
 
     def __init__(self):
-        self.config = config_store.defaults()
-        self.config[3]['home_angle'] = 0.5
-        self.up = True
-        self.running = threading.Event()  # cleared: hung, like a SIGSTOPped node
-        self.running.set()
-        self.calls = 0
+        self.now = 100.0
 
-    def wait_for_service(self, timeout):
-        if not self.up:
-            raise rospy.ROSException('timeout exceeded while waiting for service')
-
-    def __call__(self, joint):
-        self.running.wait()
-        self.calls += 1
-        return GetConfigResponse(**self.config[joint])
+    def __call__(self):
+        return self.now
 
 
 class Device:
-    """The link: decodes what is written; write() fails while disconnected."""
+    """The link: decodes every write; write() fails while `connected` is False."""
 
-    def __init__(self):
+    def __init__(self, clock):
+        self.clock = clock
         self.decoder = codec.Decoder(codec.types_sent_by(codec.TO_DEVICE))
         self.received = []
-        self.writes = []  # (monotonic time, data) of every write
+        self.writes = []  # (clock time, data)
         self.connected = True
         self.on_write = None
 
     def write(self, data):
-        if not self.connected:
-            return False
-        self.writes.append((time.monotonic(), data))
-        self.received.extend(self.decoder.feed(data))
         if self.on_write is not None:
             self.on_write()
+        if not self.connected:
+            return False
+        self.writes.append((self.clock(), data))
+        self.received.extend(self.decoder.feed(data))
         return True
 
     def take(self):
@@ -58,106 +46,133 @@ class Device:
         return received
 
 
+class Log:
+    def __init__(self):
+        self.infos, self.warnings = [], []
+
+
+def stored_settings(**changes):
+    """Return {joint: {name: value}}: the defaults, each joint's home_angle 0.125 x joint, and
+    changes given as joint_name=value (e.g. j2_pid_kp=4.0)."""
+    stored = {j: dict(settings.DEFAULTS, home_angle=0.125 * j) for j in settings.JOINTS}
+    for key, value in changes.items():
+        joint, name = key[1:].split('_', 1)
+        stored[int(joint)][name] = value
+    return stored
+
+
 def make():
-    device = Device()
-    node = FakeConfigNode()
-    sync = device_settings.DeviceSettings('/puppet/arm_L', device.write, '/serial_L', 'pty')
-    sync._get_config = node  # pylint: disable=protected-access
-    sync._caller = device_settings.TimedCaller(0.3, 2)  # pylint: disable=protected-access
-    return sync, device, node
+    clock, log = Clock(), Log()
+    device = Device(clock)
+    sync = device_settings.DeviceSettings(device.write, clock, log.infos.append,
+                                          log.warnings.append, SOURCE)
+    return sync, device, clock, log
 
 
-def step_until(sync, predicate, timeout_s=3.0):
-    deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline:
-        sync.step(True)
-        if predicate():
-            return True
-        time.sleep(0.02)
-    return False
+def store(sync, stored, revision=1):
+    sync.on_stored(revision, sorted(stored.items()))
 
 
-def test_a_connect_loads_all_84_settings_then_limp():
-    sync, device, _ = make()
-    assert not sync.loaded
-    sync.unload(load=True)
-    sync.step(True)
-    received = device.take()
-    assert sync.loaded
-    assert len(received) == 85 and received[-1] == codec.Opmode(codec.LIMP)
-    assert codec.JointConfig(3, ID['home_angle'], 0.5) in received
-    assert {(m.joint, m.config_id) for m in received[:-1]} == {
-        (j, i) for j in settings.JOINTS for i in range(len(settings.NAMES))}
+def step_when_due(sync, clock):
+    clock.now = max(clock.now, sync.next_step_s)
+    sync.step()
 
 
-def test_no_load_while_the_config_node_is_down_and_a_retry_after_it_is_up():
-    sync, device, node = make()
-    node.up = False
-    sync.unload(load=True)
-    sync.step(True)
-    assert not sync.loaded and device.take() == []
-    node.up = True
-    sync.step(True)  # the retry waits about a second
-    assert not sync.loaded
-    assert step_until(sync, lambda: sync.loaded)
-    assert len(device.take()) == 85
+def run(sync, clock, steps=100):
+    """Step whenever the core has work, moving the clock to its due time; return the steps."""
+    for count in range(steps):
+        due = sync.next_step_s
+        if due == math.inf:
+            return count
+        clock.now = max(clock.now, due)
+        sync.step()
+    raise AssertionError('still busy after %d steps' % steps)
 
 
-def test_a_reconnect_during_the_load_means_not_loaded_and_load_again():
-    sync, device, _ = make()
-    sync.unload(load=True)
-    device.on_write = lambda: sync.unload(load=True)  # the port is re-opened meanwhile
-    sync.step(True)
-    assert not sync.loaded
-    device.on_write = None
-    sync.step(True)
-    assert sync.loaded
-
-
-def test_a_silent_device_gets_no_load_until_asked():
-    sync, device, _ = make()
-    sync.unload(load=False)
-    sync.step(True)
-    assert not sync.loaded and device.take() == []
-
-
-def test_a_marked_joint_gets_what_the_config_node_stored_not_the_message():
-    sync, device, node = make()
-    sync.unload(load=True)
-    sync.step(True)
+def loaded(stored=None):
+    """Return (sync, device, clock, log) with the device loaded with stored (default settings)."""
+    sync, device, clock, log = make()
+    store(sync, stored or stored_settings())
+    sync.unload()
+    run(sync, clock)
+    assert sync.loaded_since_s is not None
     device.take()
-    calls = node.calls
-    node.config[2]['pid_kp'] = 4.0  # stored by the config node
-    for _ in range(5):  # a burst of messages: one read
-        sync.mark(2)
-    marked = time.monotonic()
-    sync.step(True)
-    assert device.take() == []  # not yet: the config node may not have stored it
-    assert step_until(sync, lambda: device.received)
-    assert time.monotonic() - marked >= device_settings.RESYNC_AFTER_S[0]
-    assert device.take() == [codec.JointConfig(2, ID['pid_kp'], 4.0)]
-    assert node.calls == calls + 1
-    # A refused value: the config node still has the old one, so nothing is sent.
-    sync.mark(2)
-    assert step_until(sync, lambda: node.calls == calls + 2)
+    return sync, device, clock, log
+
+
+def config(joint, name, value):
+    return codec.JointConfig(joint, ID[name], value)
+
+
+def test_nothing_is_written_before_the_first_connect():
+    sync, device, clock, _ = make()
+    store(sync, stored_settings())
+    assert sync.next_step_s == math.inf
+    sync.step()
+    assert device.writes == [] and sync.loaded_since_s is None
+
+
+def test_a_connect_loads_all_84_settings_then_limp_in_whole_frame_writes_with_pauses():
+    sync, device, clock, _ = make()
+    stored = stored_settings(j3_home_angle=0.5)
+    store(sync, stored, revision=4)
+    sync.unload()
+    run(sync, clock)
+    received = device.take()
+    assert len(received) == 85 and received[-1] == codec.Opmode(codec.LIMP)
+    assert {(m.joint, m.config_id): m.value for m in received[:-1]} == pytest.approx({
+        (j, ID[n]): stored[j][n] for j in settings.JOINTS for n in settings.NAMES}, rel=1e-7)
+    decoder = codec.Decoder(codec.types_sent_by(codec.TO_DEVICE))
+    for _, data in device.writes:
+        assert len(data) <= 64
+        decoder.feed(data)
+        assert decoder.pending == 0  # each write ends on a frame boundary
+    times = [t for t, _ in device.writes]
+    assert len(times) == 13 and min(b - a for a, b in zip(times, times[1:])) >= PAUSE_S - 1e-9
+    assert sync.loaded_since_s == times[-1] and sync.revision == 4
+    assert all(sync.held(j) == pytest.approx(stored[j], rel=1e-7) for j in settings.JOINTS)
+
+
+def test_without_stored_settings_it_waits_says_so_once_and_loads_as_soon_as_they_arrive():
+    sync, device, clock, log = make()
+    sync.unload()
+    for _ in range(3):
+        sync.step()
+        clock.now += 1.0
+    assert device.writes == [] and sync.next_step_s == math.inf
+    assert len(log.warnings) == 1 and SOURCE in log.warnings[0]
+    store(sync, stored_settings())
+    assert sync.next_step_s <= clock.now  # at once
+    run(sync, clock)
+    assert len(device.take()) == 85 and sync.loaded_since_s is not None
+
+
+def test_a_new_revision_sends_at_once_only_what_differs():
+    sync, device, clock, log = loaded()
+    store(sync, stored_settings(j2_pid_kp=4.0, j5_voltage_max=6.5), revision=2)
+    assert sync.next_step_s <= clock.now + PAUSE_S  # at once (after the pause of the last write)
+    run(sync, clock)
+    assert device.take() == [config(2, 'pid_kp', 4.0), config(5, 'voltage_max', 6.5)]
+    assert sync.held(2)['pid_kp'] == 4.0 and 'revision 2' in log.infos[-1]
+    store(sync, stored_settings(j2_pid_kp=4.0, j5_voltage_max=6.5), revision=3)  # no change
+    run(sync, clock)
     assert device.take() == []
 
 
-def test_a_marked_joint_is_read_again_later_for_a_slow_config_node():
-    sync, device, node = make()
-    sync.unload(load=True)
-    sync.step(True)
-    device.take()
-    sync.mark(5)
-    calls = node.calls
-    assert step_until(sync, lambda: node.calls == calls + 1)
-    node.config[5]['sign_motor'] = -1.0  # stored only after the first read
-    assert step_until(sync, lambda: device.received, device_settings.RESYNC_AFTER_S[1] + 1.0)
-    assert device.take() == [codec.JointConfig(5, ID['sign_motor'], -1.0)]
+def test_a_newer_revision_during_a_load_follows_the_load():
+    sync, device, clock, _ = make()
+    store(sync, stored_settings())
+    sync.unload()
+    sync.step()  # the first of the load's writes
+    store(sync, stored_settings(j6_pid_kd=0.5), revision=2)
+    run(sync, clock)
+    received = device.take()
+    assert len(received) == 86 and received[84] == codec.Opmode(codec.LIMP)
+    assert received[85] == config(6, 'pid_kd', 0.5)
 
 
 class FirmwareAngles:
-    """The 2020 firmware's angle (DESIGN section 3): sign_angle x wrap(raw - stored_home), where
+    """The 2020 firmware's angle (docs/serial.md): sign_angle x wrap(raw - stored_home), where
     stored_home = home_angle x the sign_angle in force when the home frame arrived."""
 
     def __init__(self):
@@ -176,16 +191,16 @@ class FirmwareAngles:
         return self.sign[joint] * wrapped
 
 
-def loaded(sync, device):
-    sync.unload(load=True)
-    sync.step(True)
-    assert sync.loaded
+def reload(sync, device, clock):
+    sync.unload()
+    run(sync, clock)
     return device.take()
 
 
 def test_signs_go_before_home_angle_for_every_joint():
-    sync, device, _ = make()
-    received = loaded(sync, device)
+    sync, device, clock, _ = make()
+    store(sync, stored_settings())
+    received = reload(sync, device, clock)
     for joint in settings.JOINTS:
         ids = [m.config_id for m in received
                if isinstance(m, codec.JointConfig) and m.joint == joint]
@@ -194,109 +209,111 @@ def test_signs_go_before_home_angle_for_every_joint():
 
 
 def test_loading_the_same_settings_twice_gives_the_same_angles():
-    sync, device, node = make()
-    node.config[1].update(home_angle=-0.22, sign_angle=-1.0)
+    sync, device, clock, _ = make()
+    store(sync, stored_settings(j1_home_angle=-0.22, j1_sign_angle=-1.0))
     firmware = FirmwareAngles()
-    firmware.feed(loaded(sync, device))
+    firmware.feed(reload(sync, device, clock))
     first = firmware.angle(1, 0.5)
-    firmware.feed(loaded(sync, device))  # a reconnect: the device still holds sign -1
+    firmware.feed(reload(sync, device, clock))  # a reconnect: the device still holds sign -1
     assert firmware.angle(1, 0.5) == first
-    assert abs(first - (-1.0) * (0.5 - 0.22)) < 1e-6
+    assert first == pytest.approx((-1.0) * (0.5 - 0.22))
 
 
 def test_a_change_of_sign_angle_alone_re_sends_home_angle_after_it():
-    sync, device, node = make()
-    node.config[1].update(home_angle=-0.25, sign_angle=-1.0)
+    sync, device, clock, _ = make()
+    store(sync, stored_settings(j1_home_angle=-0.25, j1_sign_angle=-1.0))
     firmware = FirmwareAngles()
-    firmware.feed(loaded(sync, device))
-    node.config[1]['sign_angle'] = 1.0  # the GUI changes the sign only
-    sync.mark(1)
-    assert step_until(sync, lambda: device.received)
+    firmware.feed(reload(sync, device, clock))
+    store(sync, stored_settings(j1_home_angle=-0.25), revision=2)  # the sign only
+    run(sync, clock)
     sent = device.take()
-    assert sent == [codec.JointConfig(1, ID['sign_angle'], 1.0),
-                    codec.JointConfig(1, ID['home_angle'], -0.25)]
+    assert sent == [config(1, 'sign_angle', 1.0), config(1, 'home_angle', -0.25)]
     firmware.feed(sent)
     fresh = FirmwareAngles()
-    fresh.feed(loaded(sync, device))
+    fresh.feed(reload(sync, device, clock))
     assert firmware.angle(1, 0.5) == fresh.angle(1, 0.5)
 
 
-def test_a_load_is_whole_frames_in_writes_of_at_most_64_bytes_with_pauses():
-    sync, device, _ = make()
-    loaded(sync, device)
-    decoder = codec.Decoder(codec.types_sent_by(codec.TO_DEVICE))
-    for _, data in device.writes:
-        assert len(data) <= 64
-        decoder.feed(data)
-        assert decoder.pending == 0  # the write ends on a frame boundary
-    assert decoder.frames == 85 and decoder.dropped_bytes == 0
-    gaps = [b[0] - a[0] for a, b in zip(device.writes, device.writes[1:])]
-    assert len(gaps) >= 12 and min(gaps) >= 0.0015
+def test_values_written_when_an_unload_comes_are_never_taken_as_held():
+    # The port is re-opened while the write of a change is under way: the new device (or the
+    # old one after a restart) may hold anything, not the change.
+    sync, device, clock, _ = loaded(stored_settings(j2_voltage_max=7.0))
+    store(sync, stored_settings(j2_voltage_max=1.0), revision=2)
+    device.on_write = sync.unload
+    step_when_due(sync, clock)
+    device.on_write = None
+    assert sync.held(2) is None
+    assert sync.voltage_limits(2) == device_settings.VOLTAGE_BOUNDS_V
+    assert sync.loaded_since_s is None
+    run(sync, clock)  # and everything is loaded again
+    assert len(device.take()) == 1 + 85 and sync.voltage_limits(2)[1] == 1.0
+
+
+def test_an_unload_between_the_writes_of_a_load_starts_a_fresh_whole_load():
+    sync, device, clock, _ = make()
+    store(sync, stored_settings())
+    sync.unload()
+    sync.step()
+    first = device.take()
+    assert first and sync.loaded_since_s is None
+    sync.unload()  # a reconnect in the pause between two writes
+    run(sync, clock)
+    received = device.take()
+    assert received[:len(first)] == first  # from the start again
+    assert len(received) == 85 and received[-1] == codec.Opmode(codec.LIMP)
 
 
 def test_the_epoch_rises_at_unload_and_after_the_loads_limp():
-    sync, device, _ = make()
+    sync, device, clock, _ = make()
+    store(sync, stored_settings())
     epochs = []
     device.on_write = lambda: epochs.append(sync.epoch)
     start = sync.epoch
-    sync.unload(load=True)
+    sync.unload()
     assert sync.epoch == start + 1
-    sync.step(True)
+    run(sync, clock)
     assert epochs[-1] == start + 1  # the limp frame is written before the rise
     assert sync.epoch == start + 2
 
 
-def test_a_hung_config_node_costs_each_step_at_most_the_timeout_and_a_reload_follows():
-    sync, device, node = make()
-    node.running.clear()  # SIGSTOP
-    sync.unload(load=True)  # a replug during the freeze
-    for _ in range(4):  # the first two calls hang; then no more are started
-        began = time.monotonic()
-        sync.step(True)
-        assert time.monotonic() - began < 0.3 + 0.2
-        assert not sync.loaded and device.take() == []
-        assert sync.config_status == device_settings.UNREACHABLE
-        sync._next_load_s = 0.0  # pylint: disable=protected-access  # retry at once
-    assert sync.stuck_calls == 2
-    node.running.set()  # SIGCONT: the hanging calls return
-    assert step_until(sync, lambda: sync.loaded)
+def test_a_silent_device_gets_no_load_until_asked():
+    sync, device, clock, _ = make()
+    store(sync, stored_settings())
+    sync.unload(load=False)
+    assert sync.next_step_s == math.inf
+    sync.step()
+    assert device.writes == []
+    sync.unload(load=True)  # it talks again
+    run(sync, clock)
     assert len(device.take()) == 85
-    assert sync.stuck_calls == 0 and sync.config_status == device_settings.REACHABLE
 
 
-def test_an_absent_config_node_is_not_running_and_a_loaded_node_probes_it():
-    sync, device, node = make()
-    node.up = False
-    sync.unload(load=True)
-    sync.step(True)
-    assert sync.config_status == device_settings.ABSENT
-    node.up = True
-    assert step_until(sync, lambda: sync.loaded)
-    node.running.clear()  # hangs while idle: the probe finds out
-    sync._next_probe_s = 0.0  # pylint: disable=protected-access
-    sync.step(True)
-    assert sync.config_status == device_settings.UNREACHABLE
-    node.running.set()
+def test_a_failed_write_loads_everything_again_after_the_retry_time():
+    sync, device, clock, log = loaded()
+    store(sync, stored_settings(j0_pid_ki=2.0), revision=2)
+    device.connected = False
+    step_when_due(sync, clock)
+    failed_at = clock.now
+    assert sync.loaded_since_s is None and sync.held(0) is None
+    assert sync.next_step_s == failed_at + device_settings.RETRY_S
+    sync.step()
+    assert len(log.warnings) == 1 and 'revision 2' in log.warnings[0]
+    device.connected = True
+    run(sync, clock)
+    received = device.take()
+    assert len(received) == 85 and config(0, 'pid_ki', 2.0) in received
+    assert clock.now >= failed_at + device_settings.RETRY_S
 
 
-def test_timed_caller_returns_raises_and_times_out():
-    caller = device_settings.TimedCaller(0.2, 1)
-    assert caller.call(lambda x: x + 1, 1) == 2
-    try:
-        caller.call(lambda: 1 / 0)
-        raise AssertionError('no ZeroDivisionError')
-    except ZeroDivisionError:
-        pass
-    release = threading.Event()
-    for _ in range(2):  # the second is not even started
-        try:
-            caller.call(release.wait)
-            raise AssertionError('no timeout')
-        except device_settings.CallTimeout:
-            pass
-    assert caller.stuck == 1
-    release.set()
-    deadline = time.monotonic() + 2.0
-    while caller.stuck and time.monotonic() < deadline:
-        time.sleep(0.01)
-    assert caller.stuck == 0 and caller.call(lambda: 'ok') == 'ok'
+@pytest.mark.parametrize('joints, problem', [
+    (lambda s: [(j, v) for j, v in s.items() if j != 3], 'joints'),
+    (lambda s: list(s.items()) + [(3, s[3])], 'joints'),
+    (lambda s: [(j, dict(v, pid_kd=math.nan) if j == 4 else v) for j, v in s.items()],
+     'joint 4 pid_kd'),
+])
+def test_bad_stored_settings_are_logged_and_the_previous_ones_kept(joints, problem):
+    sync, device, clock, log = loaded()
+    sync.on_stored(2, joints(stored_settings(j4_pid_kd=3.0)))
+    assert sync.revision == 1 and problem in log.warnings[-1]
+    run(sync, clock)
+    assert device.take() == []

@@ -4,7 +4,7 @@ import math
 import numpy as np
 import pytest
 
-from robopuppet import settings
+from robopuppet import interface, settings
 from robopuppet.config import config_store
 from robopuppet.gui import settings_form, state
 from robopuppet.gui.live_plot import Series
@@ -33,12 +33,12 @@ def test_buffers_are_bounded_and_keep_the_newest():
 def test_hold_latches_angles_as_setpoints_and_limp_ends_them():
     arm = state.ArmState()
     arm.on_angle(1, 0.5, 1.0)
-    arm.on_opmode('hold', 2.0)
+    arm.on_opmode(interface.HOLD, 2.0)
     assert arm.snapshot().joints[1].setpoint_rad == 0.5
     arm.on_setpoint(1, 0.7, 3.0)
-    arm.on_opmode('hold', 3.5)  # repeated: no new latch
+    arm.on_opmode(interface.HOLD, 3.5)  # repeated: no new latch
     assert arm.snapshot().joints[1].setpoint_rad == 0.7
-    arm.on_opmode('limp', 4.0)
+    arm.on_opmode(interface.LIMP, 4.0)
     assert math.isnan(arm.snapshot().joints[1].setpoint_rad)
     setpoints = arm.drain()[('setpoint', 1)]
     assert setpoints[:2] == [(2.0, 0.5), (3.0, 0.7)]
@@ -47,21 +47,21 @@ def test_hold_latches_angles_as_setpoints_and_limp_ends_them():
 
 def test_hold_keeps_setpoints_sent_before_it_since_the_last_limp():
     arm = state.ArmState()
-    arm.on_opmode('limp', 0.0)
+    arm.on_opmode(interface.LIMP, 0.0)
     arm.on_angle(2, 0.5, 1.0)
     arm.on_angle(3, -0.4, 1.0)
     arm.on_setpoint(2, 1.2, 1.5)  # arm_X sends Baxter's pose, then hold
-    arm.on_opmode('hold', 2.0)
+    arm.on_opmode(interface.HOLD, 2.0)
     joints = arm.snapshot().joints
     assert joints[2].setpoint_rad == 1.2 and joints[3].setpoint_rad == -0.4
-    arm.on_opmode('limp', 3.0)
-    arm.on_opmode('hold', 4.0)  # no setpoint since that limp: the angle again
+    arm.on_opmode(interface.LIMP, 3.0)
+    arm.on_opmode(interface.HOLD, 4.0)  # no setpoint since that limp: the angle again
     assert arm.snapshot().joints[2].setpoint_rad == 0.5
 
 
 def test_bad_input_is_refused_and_changes_nothing():
     arm = state.ArmState()
-    arm.on_opmode('limp', 0.0)
+    arm.on_opmode(interface.LIMP, 0.0)
     with pytest.raises(ValueError):
         arm.on_opmode('floppy', 1.0)
     with pytest.raises(ValueError):
@@ -69,17 +69,17 @@ def test_bad_input_is_refused_and_changes_nothing():
     with pytest.raises(ValueError):
         arm.on_gripper(4, 0.5)
     snap = arm.snapshot()
-    assert snap.opmode == 'limp'
+    assert snap.opmode == interface.LIMP
     assert all(math.isnan(j.angle_rad) for j in snap.joints)
 
 
 def test_teleop_opmode_updates_the_opmode_and_buttons_remember_the_last_press():
     arm = state.ArmState()
-    arm.on_teleop(state.Teleop('following', True, False, 'hold', 0.2, '', 5.0))
+    arm.on_teleop(state.Teleop(interface.FOLLOWING, True, False, interface.HOLD, 0.2, '', 5.0))
     arm.on_button(3)
     arm.on_button(0)
     snap = arm.snapshot()
-    assert snap.opmode == 'hold' and snap.teleop.follow_left
+    assert snap.opmode == interface.HOLD and snap.teleop.follow_left
     assert (snap.button, snap.last_button) == (0, 3)
 
 
@@ -114,53 +114,6 @@ def test_form_refuses_bad_entries_naming_the_setting(field, text, words):
     with pytest.raises(settings_form.EntryError) as error:
         settings_form.parse_form(3, form(**{field: text}))
     assert field in str(error.value) and words in str(error.value)
-
-
-def apply(stored, joint, changes):
-    """Apply [(name, value)] as the config node does, one at a time; return the refused ones."""
-    refused = []
-    for name, value in changes:
-        try:
-            stored[name] = config_store.validate(stored, joint, name, value)
-        except config_store.InvalidSetting:
-            refused.append(name)
-    return refused
-
-
-def stored_defaults():
-    return {name: config_store.to_float32(v) for name, v in settings.DEFAULTS.items()}
-
-
-@pytest.mark.parametrize('new_min, new_max, count', [(2.0, 3.0, 2), (-3.0, -2.0, 2),
-                                                     (-0.5, 0.5, 1), (1.571, 1.571, 1),
-                                                     (1.6, 1.6, 2)])
-def test_each_publish_phase_is_accepted_in_any_delivery_order(new_min, new_max, count):
-    stored = stored_defaults()
-    wanted = settings_form.parse_form(0, form(angle_min=str(new_min), angle_max=str(new_max),
-                                              voltage_min='-7', velocity_max='7'))
-    changes = {name: wanted[name] for name in settings.NAMES if wanted[name] != stored[name]}
-    phases = settings_form.publish_phases(0, stored, changes)
-    assert len(phases) == count
-    assert sorted(name for phase in phases for name, _ in phase) == sorted(changes)
-    for delivery in (lambda phase: phase, lambda phase: phase[::-1]):
-        result = dict(stored)
-        for phase in phases:
-            assert apply(result, 0, delivery(phase)) == []
-        assert result == wanted
-
-
-def test_publish_phases_send_only_the_changes_given():
-    stored = stored_defaults()
-    kd = config_store.to_float32(0.25)
-    assert settings_form.publish_phases(0, stored, {'pid_kd': kd}) == [[('pid_kd', kd)]]
-    assert settings_form.publish_phases(0, stored, {}) == []
-
-
-def test_publish_phases_refuse_a_change_that_clashes_with_a_stored_value():
-    stored = dict(stored_defaults(), voltage_max=1.0)  # changed elsewhere since the form was read
-    with pytest.raises(settings_form.EntryError) as error:
-        settings_form.publish_phases(4, stored, {'voltage_min': 2.0})
-    assert 'voltage_min' in str(error.value) and 'above voltage_max' in str(error.value)
 
 
 @pytest.mark.parametrize('value, text', [(10.0, '10'), (0.0, '0'), (-1.0, '-1'),

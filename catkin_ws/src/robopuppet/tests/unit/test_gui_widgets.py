@@ -2,25 +2,27 @@
 import math
 import os
 import threading
+import types
 
 os.environ.setdefault('QT_QPA_PLATFORM', 'offscreen')
 
 import pytest  # noqa: E402
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus  # noqa: E402
 from PyQt5 import QtCore, QtGui  # noqa: E402
 
 from robopuppet import settings  # noqa: E402
 from robopuppet.config import config_store  # noqa: E402
-from robopuppet.gui import joint_tab, main_tab, state  # noqa: E402
-from robopuppet.gui.puppet_client import ConfigUnavailable  # noqa: E402
+from robopuppet.gui import joint_tab, main_tab, puppet_client, settings_form, state  # noqa: E402
+from robopuppet.gui.puppet_client import ConfigUnavailable, SetAnswer  # noqa: E402
 from robopuppet.gui.window import Window  # noqa: E402
-from robopuppet.puppet_sim.puppet_model import REST_POSE_RAD  # noqa: E402
+from robopuppet.puppet_sim.puppet_arm import REST_POSE_RAD  # noqa: E402
 
 
 class FakeClient:
-    """Stands in for PuppetClient: records what would be published, stores like config_X.
+    """Stands in for PuppetClient: records what would be published; stores like config_X.
 
-    Like ROS across topics it keeps no order: published settings wait until the next get_config
-    and are then applied newest first (a refused one is dropped, as config_X drops it).
+    set_config stores all or none by the config node's rules (config_store.check_request) and
+    answers with what is stored, or with `refusal` when that is set.
     """
 
     side = 'R'
@@ -29,10 +31,11 @@ class FakeClient:
         self.state = state.ArmState()
         self.time_s = 100.0
         self.published = []
+        self.requests = []  # (joint, {name: value}) that set_config received
         self.config_up = True
-        self.answer = None  # a threading.Event that get_config waits for (at most 5 s)
+        self.refusal = ''  # set_config refuses every request with this error when set
+        self.answer = None  # a threading.Event that the config calls wait for (at most 5 s)
         self.stored = config_store.defaults()
-        self._undelivered = []
         self._lock = threading.Lock()
 
     def now(self):
@@ -44,25 +47,30 @@ class FakeClient:
     def set_setpoint(self, joint, angle_rad):
         self.published.append(('setpoint', joint, angle_rad))
 
-    def set_setting(self, joint, name, value):
-        with self._lock:
-            self.published.append((name, joint, value))
-            self._undelivered.append((joint, name, value))
-
-    def get_config(self, joint):
+    def _reach(self):
         if self.answer is not None:
             self.answer.wait(5.0)
         if not self.config_up:
             raise ConfigUnavailable('no service')
+
+    def get_config(self, joint):
+        self._reach()
         with self._lock:
-            for other, name, value in reversed(self._undelivered):
-                try:
-                    self.stored[other][name] = config_store.validate(self.stored[other], other,
-                                                                     name, value)
-                except config_store.InvalidSetting:
-                    pass
-            del self._undelivered[:]
             return dict(self.stored[joint])
+
+    def set_config(self, joint, values):
+        self._reach()
+        with self._lock:
+            self.requests.append((joint, dict(values)))
+            old = self.stored[joint]
+            if self.refusal:
+                return SetAnswer(False, self.refusal, dict(old))
+            try:
+                self.stored[joint] = config_store.check_request(old, joint, list(values),
+                                                                list(values.values()))
+            except config_store.InvalidSetting as error:
+                return SetAnswer(False, str(error), dict(old))
+            return SetAnswer(True, '', dict(self.stored[joint]))
 
 
 @pytest.fixture
@@ -107,7 +115,7 @@ def test_main_tab_shows_injected_state(window, client):
     assert '0.5 s ago' in tab.heartbeat_label.text()
     assert main_tab.GREEN in tab.heartbeat_label.styleSheet()
     assert tab.teleop_label.text() == 'no arm controller'
-    assert 'no diagnostics from serial_R' in tab.link_label.text()
+    assert 'no serial link diagnostics for /puppet/arm_R' in tab.link_label.text()
 
 
 def test_stale_heartbeat_turns_red(window, client):
@@ -174,50 +182,69 @@ def set_and_wait(qtbot, tab):
     ({'pid_kp': 'fast'}, 'not a number'),
     ({'angle_min': '1', 'angle_max': '0.5'}, 'above angle_max'),
     ({'sign_angle': '2'}, 'sign'),
+    ({'voltage_max': '9'}, 'outside its bound'),
 ])
-def test_invalid_entry_is_refused_with_a_message(qtbot, client, changes, words):
+def test_invalid_entry_is_refused_with_a_message_and_nothing_is_sent(qtbot, client, changes,
+                                                                    words):
     tab = read_tab(qtbot, client, 4)
     fill(tab, **changes)
     qtbot.mouseClick(tab.set_button, QtCore.Qt.LeftButton)
-    assert client.published == [] and not tab.busy()
+    assert client.requests == [] and not tab.busy()
     assert words in tab.message.text() and 'refused' in tab.message.text()
     assert tab.message.styleSheet() == joint_tab.ERROR_STYLE
 
 
-@pytest.mark.parametrize('changes, phases', [
-    ({'angle_min': '2', 'angle_max': '3', 'pid_kp': '0.5'},
-     [['angle_max', 'pid_kp'], ['angle_min']]),  # the new minimum is above the stored maximum
-    ({'angle_min': '-3', 'angle_max': '-2'}, [['angle_min'], ['angle_max']]),
-    ({'angle_min': '-1', 'angle_max': '1'}, [['angle_min', 'angle_max']]),
-])
-def test_set_publishes_in_phases_that_any_delivery_order_accepts(qtbot, client, changes,
-                                                                  phases):
+def test_set_sends_the_edited_fields_in_one_request_and_shows_what_is_stored(qtbot, client):
     tab = read_tab(qtbot, client, 1)
-    fill(tab, **changes)
+    client.stored[1]['pid_kd'] = 0.25  # someone else changes a setting meanwhile
+    # a new minimum above the stored maximum, with the new maximum: one request takes both
+    fill(tab, angle_min='2', angle_max='3', pid_ki='0.50')
     set_and_wait(qtbot, tab)
     assert tab.message.text().startswith('saved'), tab.message.text()
-    assert [p[0] for p in client.published] == [name for phase in phases for name in phase]
-    for name, text in changes.items():
-        assert client.stored[1][name] == config_store.to_float32(float(text))
+    assert tab.message.styleSheet() == joint_tab.OK_STYLE
+    assert client.requests == [(1, {'angle_min': 2.0, 'angle_max': 3.0, 'pid_ki': 0.5})]
+    assert client.stored[1]['pid_kd'] == 0.25, 'a field not edited is not sent'
+    shown = {name: field.text() for name, field in tab.fields.items()}
+    assert shown == {name: settings_form.field_text(value)
+                     for name, value in client.stored[1].items()}
+    assert shown['pid_ki'] == '0.5' and shown['pid_kd'] == '0.25'
+    set_and_wait(qtbot, tab)  # what Set stored is no longer an edit
+    assert len(client.requests) == 1 and 'no change' in tab.message.text()
 
 
-def test_set_sends_only_the_fields_edited_since_get(qtbot, client):
-    tab = read_tab(qtbot, client, 3)
-    client.stored[3]['pid_ki'] = 0.25  # someone else changes a setting meanwhile
-    tab.fields['pid_kp'].setText('0.5')
+def test_a_field_typed_into_while_set_waits_keeps_the_new_text(qtbot, client):
+    tab = read_tab(qtbot, client, 0)
+    tab.fields['pid_kp'].setText('1.50')
+    client.answer = threading.Event()  # set_config waits until it is set
+    qtbot.mouseClick(tab.set_button, QtCore.Qt.LeftButton)
+    assert tab.busy()
+    tab.fields['pid_kd'].setText('0.3')  # typed while the call is under way
+    client.answer.set()
+    qtbot.waitUntil(lambda: not tab.busy(), timeout=3000)
+    assert tab.message.text().startswith('saved') and client.requests == [(0, {'pid_kp': 1.5})]
+    assert tab.fields['pid_kp'].text() == '1.5', 'what was sent shows as stored'
+    assert tab.fields['pid_kd'].text() == '0.3', 'the unsaved edit stays'
     set_and_wait(qtbot, tab)
-    assert client.published == [('pid_kp', 3, 0.5)]
-    assert client.stored[3]['pid_ki'] == 0.25 and tab.message.text().startswith('saved')
-    set_and_wait(qtbot, tab)  # what Set sent is no longer an edit
-    assert len(client.published) == 1 and 'no change' in tab.message.text()
+    assert client.requests[-1] == (0, {'pid_kd': config_store.to_float32(0.3)})
 
 
-def test_set_refuses_an_edit_that_clashes_with_a_setting_changed_elsewhere(qtbot, client):
+def test_a_request_the_config_node_refuses_keeps_the_edits_and_shows_why(qtbot, client):
     tab = read_tab(qtbot, client, 3)
-    client.stored[3]['angle_max'] = 0.5
-    tab.fields['angle_min'].setText('1')
+    client.stored[3]['angle_max'] = 0.5  # changed elsewhere: the form still shows 1.571
+    fill(tab, angle_min='1', pid_kp='2')
     set_and_wait(qtbot, tab)
-    assert client.published == [] and 'changed since they were read' in tab.message.text()
+    assert client.requests == [(3, {'angle_min': 1.0, 'pid_kp': 2.0})]
+    assert 'refused by config_R' in tab.message.text()
+    assert 'joint 3 angle_min = 1.0: above angle_max = 0.5' in tab.message.text()
+    assert tab.message.styleSheet() == joint_tab.ERROR_STYLE
+    assert tab.fields['angle_min'].text() == '1' and tab.fields['pid_kp'].text() == '2'
+    assert tab.fields['angle_max'].text() == '1.571', 'the refusal does not refill the form'
+    assert client.stored[3]['pid_kp'] == 0.0, 'all or none'
+    client.refusal = 'changes will not persist (cannot repair arm_R.ini: Read-only file system)'
+    fill(tab, pid_kp='3')
+    set_and_wait(qtbot, tab)
+    assert 'changes will not persist' in tab.message.text()
+    assert tab.fields['pid_kp'].text() == '3'
 
 
 def test_set_needs_the_settings_read_first(qtbot, client):
@@ -230,16 +257,7 @@ def test_set_needs_the_settings_read_first(qtbot, client):
     client.config_up = True
     fill(tab, pid_kp='0.5')
     qtbot.mouseClick(tab.set_button, QtCore.Qt.LeftButton)
-    assert client.published == [] and 'Get' in tab.message.text()
-
-
-def test_set_reports_a_value_the_config_node_did_not_store(qtbot, client):
-    tab = read_tab(qtbot, client, 1)
-    client.set_setting = lambda joint, name, value: client.published.append(name)  # drops all
-    tab.fields['pid_ki'].setText('0.2')
-    set_and_wait(qtbot, tab)
-    assert client.published == ['pid_ki']
-    assert 'not stored' in tab.message.text() and 'pid_ki is 0' in tab.message.text()
+    assert client.requests == [] and 'Get' in tab.message.text()
 
 
 def test_get_fills_fields_and_reports_a_missing_config_node(qtbot, client):
@@ -253,23 +271,51 @@ def test_get_fills_fields_and_reports_a_missing_config_node(qtbot, client):
     client.config_up = False
     tab.fields['pid_kd'].setText('0.5')
     set_and_wait(qtbot, tab)
-    assert 'config node not reachable' in tab.message.text() and client.published == []
+    assert 'config node not reachable' in tab.message.text() and client.requests == []
+    assert tab.fields['pid_kd'].text() == '0.5'
 
 
-def test_a_hung_config_node_does_not_freeze_the_window(qtbot, client, monkeypatch):
-    monkeypatch.setattr(joint_tab, 'READ_TIMEOUT_S', 0.3)
-    client.answer = threading.Event()  # get_config hangs until it is set (or 5 s)
-    tab = joint_tab.JointTab(client, 6)
-    qtbot.addWidget(tab)
-    qtbot.mouseClick(tab.get_button, QtCore.Qt.LeftButton)
-    # the click returned while get_config still hangs: the GUI thread was not blocked
-    assert tab.busy() and 'reading' in tab.message.text()
+def join_config_calls():
+    """Wait until every config call's worker thread has ended, its answer queued to Qt."""
+    for thread in threading.enumerate():
+        if thread.name == 'config call':
+            thread.join(5.0)
+            assert not thread.is_alive()
+
+
+@pytest.mark.parametrize('button', ['get_button', 'set_button'])
+def test_a_hung_config_node_does_not_freeze_the_window(qtbot, client, monkeypatch, button):
+    monkeypatch.setattr(joint_tab, 'CALL_TIMEOUT_S', 0.3)
+    tab = read_tab(qtbot, client, 6)
+    tab.fields['pid_kp'].setText('0.5')
+    client.answer = threading.Event()  # the config calls hang until it is set (or 5 s)
+    qtbot.mouseClick(getattr(tab, button), QtCore.Qt.LeftButton)
+    # the click returned while the call still hangs: the GUI thread was not blocked
+    assert tab.busy() and ('reading' in tab.message.text() or 'sending' in tab.message.text())
     assert not tab.get_button.isEnabled() and not tab.set_button.isEnabled()
     qtbot.waitUntil(lambda: not tab.busy(), timeout=3000)
     assert 'no answer within 0.3 s' in tab.message.text() and tab.get_button.isEnabled()
     client.answer.set()  # the late answer is dropped
-    qtbot.wait(200)
-    assert tab.fields['angle_max'].text() == '' and 'no answer' in tab.message.text()
+    join_config_calls()
+    QtCore.QCoreApplication.processEvents()
+    assert tab.fields['pid_kp'].text() == '0.5' and 'no answer' in tab.message.text()
+
+
+def test_the_link_status_is_found_by_namespace_and_name_whatever_the_node_is_called():
+    ns = '/puppet/arm_R'
+    link = DiagnosticStatus(level=1, name='my_serial: puppet serial link', message='slow',
+                            hardware_id=ns)
+    others = [
+        DiagnosticStatus(name='serial_R: puppet serial link', hardware_id='/dev/ttyACM0'),
+        DiagnosticStatus(name='serial_L: puppet serial link', hardware_id='/puppet/arm_L'),
+        DiagnosticStatus(name='arm_R: teleoperation', hardware_id=ns),
+    ]
+    assert puppet_client.is_link_status(link, ns)
+    assert not any(puppet_client.is_link_status(status, ns) for status in others)
+    arm = state.ArmState()
+    fake = types.SimpleNamespace(ns=ns, state=arm, _clock=lambda: 7.0)
+    puppet_client.PuppetClient._on_diagnostics(fake, DiagnosticArray(status=others + [link]))
+    assert arm.snapshot().link == state.Link(1, 'my_serial: puppet serial link', 'slow', (), 7.0)
 
 
 def test_setpoint_is_checked_against_the_stored_limits(qtbot, client):

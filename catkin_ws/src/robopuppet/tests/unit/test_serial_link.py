@@ -1,4 +1,4 @@
-"""Unit tests of robopuppet.protocol.serial_link over pyserial's loop:// port (no device, no ROS)."""
+"""Unit tests of protocol.serial_link over pyserial's loop:// port (no device, no ROS)."""
 import termios
 import threading
 import time

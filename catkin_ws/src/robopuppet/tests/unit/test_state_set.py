@@ -1,4 +1,4 @@
-"""Unit tests of robopuppet.protocol.state_set: plausible, whole state sets and healthy heartbeats."""
+"""Unit tests of protocol.state_set: plausible, whole state sets and healthy heartbeats."""
 import math
 import random
 import struct
@@ -174,7 +174,7 @@ def test_a_byte_dropped_inside_a_set_drops_it_but_noise_before_joint_0_does_not(
 
 
 def test_a_cut_off_frame_that_swallows_a_real_one_never_makes_a_set():
-    # The fault of issue 14: a cut-off joint state whose false checksum happens to match the
+    # A fault seen on the line: a cut-off joint state whose false checksum happens to match the
     # real frame that follows; it decodes (plausibly or not) and eats that frame.
     frames = [codec.encode(m) for m in set_messages(3)]
     real = frames[3]

@@ -16,7 +16,14 @@ _COMMENT_RE = re.compile(r'^\s*([#;].*)?$')
 
 
 class InvalidSetting(ValueError):
-    """A setting value that the puppet must not receive; the message names joint, setting, value."""
+    """Setting values that the puppet must not receive; each problem names joint, setting, value.
+
+    str() is the problems joined by '; '; .problems is the tuple of them.
+    """
+
+    def __init__(self, *problems):
+        super().__init__('; '.join(problems))
+        self.problems = problems
 
 
 def defaults():
@@ -32,39 +39,58 @@ def check_joint(joint):
                              % (joint, settings.JOINTS[0], settings.JOINTS[-1]))
 
 
-def validate(joint_values, joint, name, value):
-    """Check that setting `name` of `joint` may become `value`, given the joint's other values.
+def check_request(joint_values, joint, names, values):
+    """Return a joint's settings with some of them changed, checked together: all or none.
 
     Args:
-        joint_values: the joint's current {name: value}, used for the min <= max rule.
+        joint_values: the joint's stored {name: value}; the settings not named keep these.
         joint: joint index 0..6.
-        name: setting name from settings.NAMES.
-        value: the proposed value.
+        names: setting names from settings.NAMES, each at most once.
+        values: one value per name, in the setting's unit (settings.SETTINGS).
     Returns:
-        value as a float.
+        A new {name: float32 value} of all twelve settings.
     Raises:
-        InvalidSetting: unknown joint or name, a non-finite value, a sign that is not +-1, a value
-            outside the setting's bound (settings.SETTINGS), or a minimum above its maximum.
+        InvalidSetting: every problem (each names joint, setting and value): a joint outside
+            0..6, names and values of different lengths, an unknown or repeated name, a value
+            that is not a number or not finite, a sign not +-1, a value outside its bound, a
+            minimum above its maximum once all values of the request are applied.
     """
     check_joint(joint)
-    if name not in settings.CONFIG_ID:
-        raise InvalidSetting('joint %d: unknown setting %r' % (joint, name))
-    where = 'joint %d %s = %r' % (joint, name, value)
-    try:
-        value = to_float32(float(value))
-    except (TypeError, ValueError):
-        raise InvalidSetting('%s: not a number' % where) from None
-    reason = implausible(name, value)
-    if reason:
-        raise InvalidSetting('%s: %s' % (where, reason))
+    if len(names) != len(values):
+        raise InvalidSetting('joint %d: %d setting names but %d values'
+                             % (joint, len(names), len(values)))
+    result = dict(joint_values)
+    requested, refused, errors = {}, set(), []
+    for name, value in zip(names, values):
+        where = 'joint %d %s = %r' % (joint, name, value)
+        if name not in settings.CONFIG_ID:
+            errors.append('joint %d: unknown setting %r' % (joint, name))
+            continue
+        if name in requested:
+            errors.append('%s: %s is named twice' % (where, name))
+            refused.add(name)
+            continue
+        requested[name] = value
+        try:
+            result[name] = to_float32(float(value))
+            reason = implausible(name, result[name])
+        except (TypeError, ValueError):
+            reason = 'not a number'
+        if reason:
+            errors.append('%s: %s' % (where, reason))
+            refused.add(name)
     for low, high in settings.RANGE_PAIRS:
-        if name == low and value > joint_values[high]:
-            raise InvalidSetting('%s: above %s = %s'
-                                 % (where, high, format_value(joint_values[high])))
-        if name == high and value < joint_values[low]:
-            raise InvalidSetting('%s: below %s = %s'
-                                 % (where, low, format_value(joint_values[low])))
-    return value
+        if low in refused or high in refused or result[low] <= result[high]:
+            continue
+        if high in requested and low not in requested:
+            errors.append('joint %d %s = %r: below %s = %s' % (
+                joint, high, requested[high], low, format_value(result[low])))
+        else:
+            errors.append('joint %d %s = %r: above %s = %s' % (
+                joint, low, requested.get(low, result[low]), high, format_value(result[high])))
+    if errors:
+        raise InvalidSetting(*errors)
+    return result
 
 
 def implausible(name, value):
@@ -280,6 +306,6 @@ def render(text, config, only=None):
 def default_text(header=''):
     """Return a complete ini text with the default settings and a comment per option kind."""
     intro = [header] if header else []
-    intro += ['# RoboPuppet joint settings, one section per joint (DESIGN section 5).']
+    intro += ['# RoboPuppet joint settings, one section per joint (see README.md).']
     intro += ['#   %-13s %-10s %s' % (s.name, s.unit, s.meaning) for s in settings.SETTINGS]
     return render('\n'.join(intro) + '\n', defaults())

@@ -1,17 +1,14 @@
-"""get_config off the GUI thread: a blocking call on a worker thread, its answer back on the GUI
-thread through a queued Qt signal, and a deadline kept by the GUI thread."""
+"""Config node calls off the GUI thread: a blocking call on a worker thread, its answer back on
+the GUI thread through a queued Qt signal, and a deadline kept by the GUI thread."""
 import threading
-import time
 
 from PyQt5 import QtCore
 
 from robopuppet.gui.puppet_client import ConfigUnavailable
 
-POLL_S = 0.1  # between get_config reads while waiting for settings to be stored
-
 
 class ConfigTask(QtCore.QObject):
-    """Run one blocking get_config job at a time so that the window keeps drawing meanwhile.
+    """Run one blocking config node call at a time so that the window keeps drawing meanwhile.
 
     start(work, on_done, timeout_s) runs work() on a new daemon thread. Its result, or the
     ConfigUnavailable it raises, comes back through a queued signal and on_done(result, error
@@ -43,11 +40,11 @@ class ConfigTask(QtCore.QObject):
             RuntimeError: a job is still running (wait until busy() is False).
         """
         if self.busy():
-            raise RuntimeError('a get_config job is still running')
+            raise RuntimeError('a config node call is still running')
         self._ticket += 1
         self._on_done = on_done
         self._timeout_s = timeout_s
-        threading.Thread(target=self._run, args=(self._ticket, work), name='get_config',
+        threading.Thread(target=self._run, args=(self._ticket, work), name='config call',
                          daemon=True).start()
         self._timer.start(int(round(timeout_s * 1000)))
 
@@ -74,17 +71,3 @@ class ConfigTask(QtCore.QObject):
         self._timer.stop()
         on_done(result, error)
 
-
-def wait_stored(client, joint, expected, within_s, poll_s=POLL_S):
-    """Read get_config until it holds every expected (name, value) or within_s has passed.
-
-    Blocks: run it on a worker thread. Returns the last {name: value} read.
-    Raises:
-        ConfigUnavailable: a read failed.
-    """
-    end_s = time.monotonic() + within_s
-    while True:
-        stored = client.get_config(joint)
-        if all(stored[name] == value for name, value in expected) or time.monotonic() >= end_s:
-            return stored
-        time.sleep(poll_s)

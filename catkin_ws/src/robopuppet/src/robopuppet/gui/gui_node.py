@@ -27,7 +27,7 @@ def read_params():
         ValueError: ~arm_side is not L or R, or ~frame_rate is not a positive number.
     """
     side = rospy.get_param('~arm_side')
-    interface.puppet_ns(side)
+    interface.check_side(side)
     frame_rate_hz = rospy.get_param('~frame_rate', DEFAULT_FRAME_RATE_HZ)
     if not isinstance(frame_rate_hz, (int, float)) or not 0 < frame_rate_hz <= 1000:
         raise ValueError('~frame_rate must be a number of Hz in (0, 1000], got %r'
@@ -42,10 +42,9 @@ def main():
     Node gui_X (see Window, PuppetClient and SimPuppetClient for the topics):
     Subscribes: /puppet/arm_X/{heartbeat, opmode, teleop_state, user_btn, gripper_G,
         joint_J/enc_stat, joint_J/angle, joint_J/voltage, joint_J/setpoint}, /diagnostics.
-    Publishes: /puppet/arm_X/opmode, /puppet/arm_X/joint_J/setpoint,
-        /puppet/arm_X/joint_J/<setting>; with ~sim_puppet also /puppet_sim/arm_X/{hand, button,
-        grippers} (latched).
-    Calls: /puppet/arm_X/get_config.
+    Publishes: /puppet/arm_X/opmode, /puppet/arm_X/joint_J/setpoint; with ~sim_puppet also
+        /puppet_sim/arm_X/{hand, button, grippers} (latched).
+    Calls: /puppet/arm_X/get_config (Get), /puppet/arm_X/set_config (Set).
     Parameters:
         ~arm_side (str, required): 'L' or 'R'.
         ~frame_rate (float, default 30 Hz): redraws per second of the visible tab.

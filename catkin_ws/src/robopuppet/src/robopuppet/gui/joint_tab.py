@@ -5,13 +5,12 @@ from PyQt5 import QtCore, QtWidgets
 
 from robopuppet import settings
 from robopuppet.gui import settings_form
-from robopuppet.gui.config_task import ConfigTask, wait_stored
+from robopuppet.gui.config_task import ConfigTask
 from robopuppet.gui.live_plot import LivePlot
 from robopuppet.gui.main_tab import number
 
 NOW_LABEL_WIDTH = 420  # pixels
-READ_TIMEOUT_S = 2.0  # a get_config read (1 s to find the service, then the call) is given up
-CONFIRM_WITHIN_S = 1.0  # after publishing a phase of Set, read it back for up to this long
+CALL_TIMEOUT_S = 2.0  # a get_config or set_config call (1 s to find the service, then the call)
 OK_STYLE = 'QLabel { color: #1b5e20; }'
 ERROR_STYLE = 'QLabel { color: #b71c1c; font-weight: bold; }'
 
@@ -19,15 +18,16 @@ ERROR_STYLE = 'QLabel { color: #b71c1c; font-weight: bold; }'
 class JointTab(QtWidgets.QWidget):
     """Plots and settings of one joint; talks to the arm through a PuppetClient-like `client`.
 
-    The client needs get_config(joint) (blocking, raising ConfigUnavailable; only ever called
-    on a worker thread), set_setting(joint, name, value), set_setpoint(joint, angle_rad) and side.
+    The client needs get_config(joint) and set_config(joint, {name: value}) (blocking, raising
+    ConfigUnavailable; only ever called on a worker thread; set_config returns a
+    puppet_client.SetAnswer), set_setpoint(joint, angle_rad) and side.
     """
 
     def __init__(self, client, joint, window_s=10.0, parent=None):
         super().__init__(parent)
         self._client = client
         self.joint = joint
-        self.stored = None  # the joint's settings as last read from get_config
+        self.stored = None  # the joint's settings as the config node last reported them
         self._filled = None  # {name: value} the fields were filled with; edits are against it
         self._read_once = False
         self._task = ConfigTask(self)
@@ -48,8 +48,8 @@ class JointTab(QtWidgets.QWidget):
         self.get_button = QtWidgets.QPushButton('Get')
         self.get_button.setToolTip('read the stored settings from config_%s' % client.side)
         self.set_button = QtWidgets.QPushButton('Set')
-        self.set_button.setToolTip('send the settings edited since Get (stored and sent to the '
-                                   'puppet)')
+        self.set_button.setToolTip('send the settings edited since Get to config_%s (stored '
+                                   'all or none, then sent to the puppet)' % client.side)
         self.get_button.clicked.connect(self.get)
         self.set_button.clicked.connect(self.set)
         buttons = QtWidgets.QHBoxLayout()
@@ -115,24 +115,35 @@ class JointTab(QtWidgets.QWidget):
         if self.busy():
             return
         self._say('reading the stored settings of joint %d...' % self.joint)
-        self._read(self._got)
+        self._start(lambda: self._client.get_config(self.joint), self._got)
 
     def _got(self, stored, error):
         if error is not None:
-            self._unreachable(error)
+            self._say('config node not reachable, nothing changed: %s' % error, error=True)
             return
-        self.stored, self._filled = stored, dict(stored)
-        for name, value in stored.items():
-            self.fields[name].setText(settings_form.field_text(value))
+        self.stored = stored
+        self._show(stored)
         self._say('read the stored settings of joint %d' % self.joint)
 
-    def set(self):
-        """Check the fields and publish the ones edited since Get, in phases, confirming each.
+    def _show(self, stored, texts=None):
+        """Fill the fields with the stored {name: value}; edits are counted against these.
 
-        Nothing is published when any field is refused, the settings were never read, or the
-        stored settings cannot be read now (they decide the phases of a minimum and a maximum).
-        Fields the operator did not edit are never sent, so a change made elsewhere meanwhile
-        is not reverted.
+        With texts ({name: text} the fields held when the call started), a field typed into
+        since keeps what the operator typed: an unsaved edit is never overwritten.
+        """
+        self._filled = dict(stored)
+        for name, value in stored.items():
+            if texts is None or self.fields[name].text() == texts[name]:
+                self.fields[name].setText(settings_form.field_text(value))
+
+    def set(self):
+        """Check the fields and send the ones edited since Get to set_config, in one request.
+
+        Nothing is sent when any field is refused or the settings were never read. Fields the
+        operator did not edit are not sent, so a change made elsewhere meanwhile is not
+        reverted; the config node checks the edits against what it stores, all or none. When it
+        has stored them the fields show what it stores; when it refuses, the fields keep the
+        edits and the message says why.
         """
         if self.busy():
             return
@@ -149,55 +160,23 @@ class JointTab(QtWidgets.QWidget):
         if not edited:
             self._say('no change: no field was edited since the settings were read')
             return
-        self._say('reading the stored settings of joint %d...' % self.joint)
-        self._read(lambda stored, error: self._send(edited, stored, error))
+        self._say('sending %s...' % describe(edited.items()))
+        self._start(lambda: self._client.set_config(self.joint, edited),
+                    functools.partial(self._answered_set, texts))
 
-    def _send(self, edited, stored, error):
+    def _answered_set(self, texts, answer, error):
         if error is not None:
-            self._unreachable(error)
+            self._say('config node not reachable: %s; Get shows what is stored' % error,
+                      error=True)
             return
-        self.stored = stored
-        changes = {name: value for name, value in edited.items() if value != stored[name]}
-        if not changes:
-            self._filled.update(edited)
-            self._say('no change: the edited fields hold the stored settings')
+        self.stored = answer.values
+        if not answer.stored:
+            self._say('refused by config_%s, nothing changed:\n%s'
+                      % (self._client.side, answer.error), error=True)
             return
-        try:
-            phases = settings_form.publish_phases(self.joint, stored, changes)
-        except settings_form.EntryError as error:
-            self._say('refused, nothing sent: the stored settings changed since they were read '
-                      '(Get shows them):\n%s' % error, error=True)
-            return
-        self._send_phase(phases, [])
-
-    def _send_phase(self, phases, sent):
-        """Publish phases[0]; once get_config shows it stored, the next phase."""
-        phase, rest = phases[0], phases[1:]
-        for name, value in phase:
-            self._client.set_setting(self.joint, name, value)
-        sent = sent + phase
-        self._say('sent %s; checking...' % describe(sent))
-        self._start(lambda: wait_stored(self._client, self.joint, phase, CONFIRM_WITHIN_S),
-                    CONFIRM_WITHIN_S + READ_TIMEOUT_S,
-                    lambda stored, error: self._confirmed(phase, rest, sent, stored, error))
-
-    def _confirmed(self, phase, rest, sent, stored, error):
-        unsent = '; not sent: %s' % describe([c for p in rest for c in p]) if rest else ''
-        if error is not None:
-            self._say('sent %s, but config_%s did not answer the check: %s%s' % (
-                describe(sent), self._client.side, error, unsent), error=True)
-            return
-        self.stored = stored
-        differ = [name for name, value in phase if stored[name] != value]
-        if differ:
-            self._say('not stored by config_%s: %s (see its log)%s' % (self._client.side, ', '.join(
-                '%s is %s' % (n, settings_form.field_text(stored[n])) for n in differ), unsent),
-                error=True)
-        elif rest:
-            self._send_phase(rest, sent)
-        else:
-            self._filled.update(sent)
-            self._say('saved: joint %d settings stored and sent to the puppet' % self.joint)
+        self._show(answer.values, texts)
+        self._say('saved: joint %d settings stored (the serial node sends them to the puppet)'
+                  % self.joint)
 
     def send_setpoint(self):
         """Publish the setpoint entry (rad), refused when not a number or out of limits."""
@@ -210,21 +189,16 @@ class JointTab(QtWidgets.QWidget):
         self._say('setpoint %s rad sent (the puppet follows it in hold mode)'
                   % settings_form.field_text(angle_rad))
 
-    def _read(self, on_done):
-        """Read get_config off the GUI thread; on_done(stored or None, error or None) after."""
-        self._start(lambda: self._client.get_config(self.joint), READ_TIMEOUT_S, on_done)
-
-    def _start(self, work, timeout_s, on_done):
-        """Run work() on a worker thread, Get and Set disabled until on_done(result, error)."""
-        self._task.start(work, functools.partial(self._answered, on_done), timeout_s)
+    def _start(self, work, on_done):
+        """Run work() on a worker thread, Get and Set disabled until on_done(result, error):
+        result None and error a text when work raised ConfigUnavailable or CALL_TIMEOUT_S
+        passed."""
+        self._task.start(work, functools.partial(self._answered, on_done), CALL_TIMEOUT_S)
         self._enable_buttons()
 
     def _answered(self, on_done, result, error):
         self._enable_buttons()
         on_done(result, error)
-
-    def _unreachable(self, error):
-        self._say('config node not reachable, nothing changed: %s' % error, error=True)
 
     def _enable_buttons(self):
         for button in (self.get_button, self.set_button):

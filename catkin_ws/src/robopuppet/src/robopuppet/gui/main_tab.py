@@ -5,14 +5,14 @@ from PyQt5 import QtCore, QtGui, QtWidgets
 
 from robopuppet import interface, settings
 from robopuppet.gui import state
-from robopuppet.interface import HEARTBEAT_TIMEOUT_S
 
 LINK_STALE_S = 5.0       # diagnostics older than this are shown as not updating
 
 GREEN, AMBER, RED, GREY, BLUE = '#c8e6c9', '#ffe0b2', '#ffcdd2', '#e0e0e0', '#bbdefb'
 STATUS_COLOUR = dict(zip(interface.ENC_STATUS, (GREEN, RED, AMBER)))
 LINK_LEVEL = {0: ('OK', GREEN), 1: ('WARN', AMBER), 2: ('ERROR', RED), 3: ('STALE', GREY)}
-TELEOP_COLOUR = {'calibrating': AMBER, 'ready': BLUE, 'following': GREEN, 'fault': RED}
+TELEOP_COLOUR = {interface.CALIBRATING: AMBER, interface.READY: BLUE, interface.FOLLOWING: GREEN,
+                 interface.FAULT: RED}
 GRIPPER_NAMES = ('gripper 0', 'gripper 1', 'gripper 2', 'end piece')
 
 
@@ -40,10 +40,10 @@ class MainTab(QtWidgets.QWidget):
         self.detail_label = QtWidgets.QLabel()
         self.detail_label.setWordWrap(True)
         self.button_label = QtWidgets.QLabel()
-        self.limp_radio = QtWidgets.QRadioButton('limp')
-        self.hold_radio = QtWidgets.QRadioButton('hold')
-        self.limp_radio.clicked.connect(lambda: client.set_opmode('limp'))
-        self.hold_radio.clicked.connect(lambda: client.set_opmode('hold'))
+        self.limp_radio = QtWidgets.QRadioButton(interface.LIMP)
+        self.hold_radio = QtWidgets.QRadioButton(interface.HOLD)
+        self.limp_radio.clicked.connect(lambda: client.set_opmode(interface.LIMP))
+        self.hold_radio.clicked.connect(lambda: client.set_opmode(interface.HOLD))
         self.joint_table = self._table(['encoder', 'angle (rad)', 'voltage (V)'],
                                        ['joint %d' % j for j in settings.JOINTS])
         self.gripper_table = self._table(['reading (0-1)'], GRIPPER_NAMES)
@@ -102,10 +102,12 @@ class MainTab(QtWidgets.QWidget):
             self.heartbeat_label.setText('no heartbeat yet')
         else:
             self.heartbeat_label.setText('last heartbeat %.1f s ago' % age)
-        paint(self.heartbeat_label, RED if age is None or age > HEARTBEAT_TIMEOUT_S else GREEN)
+        stale = age is None or age > interface.HEARTBEAT_TIMEOUT_S
+        paint(self.heartbeat_label, RED if stale else GREEN)
         self.button_label.setText('button held: %s   last pressed: %s' % (
             '—' if snap.button is None else (snap.button or 'none'), snap.last_button or 'none'))
-        for radio, opmode in ((self.limp_radio, 'limp'), (self.hold_radio, 'hold')):
+        for radio, opmode in ((self.limp_radio, interface.LIMP),
+                              (self.hold_radio, interface.HOLD)):
             if not radio.isDown():
                 radio.setAutoExclusive(False)  # lets both show unchecked while opmode is unknown
                 radio.setChecked(snap.opmode == opmode)
@@ -130,14 +132,15 @@ class MainTab(QtWidgets.QWidget):
             return
         self.teleop_label.setText('state: %s   (opmode %s)' % (teleop.state, teleop.opmode))
         paint(self.teleop_label, TELEOP_COLOUR.get(teleop.state, GREY))
-        following = [arm for arm, on in (('left', teleop.follow_left),
-                                         ('right', teleop.follow_right)) if on]
+        following = [arm for arm, on in zip(interface.BAXTER_SIDES,
+                                            (teleop.follow_left, teleop.follow_right)) if on]
         self.follow_label.setText('Baxter arms following: %s' % (' + '.join(following) or 'none'))
         self.detail_label.setText(teleop.detail)
 
     def _show_link(self, link, now_s):
         if link is None:
-            self.link_label.setText('no diagnostics from serial_%s' % self._client.side)
+            self.link_label.setText('no serial link diagnostics for %s'
+                                    % interface.puppet_ns(self._client.side))
             paint(self.link_label, GREY)
             return
         level, colour = LINK_LEVEL.get(link.level, ('level %d' % link.level, GREY))

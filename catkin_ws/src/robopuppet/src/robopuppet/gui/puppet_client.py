@@ -1,8 +1,9 @@
-"""The GUI's ROS side: subscribers that fill an ArmState, publishers, and the get_config proxy.
+"""The GUI's ROS side: subscribers that fill an ArmState, publishers, the config node's services.
 
 No Qt here: callbacks run on rospy's threads and only touch the locked ArmState; the GUI thread
 reads it once per frame.
 """
+import collections
 import math
 
 import rospy
@@ -13,18 +14,30 @@ from std_msgs.msg import Empty, Float32, Float32MultiArray, String, UInt8
 from robopuppet import interface, settings
 from robopuppet.gui import state
 from robopuppet_msgs.msg import TeleopState
-from robopuppet_msgs.srv import GetConfig
+from robopuppet_msgs.srv import GetConfig, SetConfig
 
-SIM_NAMESPACE = '/puppet_sim/arm_%s'
-HAND_JOINTS = tuple('joint_%d' % joint for joint in settings.JOINTS)
 # Incoming messages each subscriber keeps when its callback falls behind (older ones are
 # dropped); /diagnostics carries every node's statuses, so it keeps more.
 QUEUE_SIZE = 10
 DIAGNOSTICS_QUEUE_SIZE = 100
 
 
+SetAnswer = collections.namedtuple('SetAnswer', 'stored error values')
+SetAnswer.__doc__ = """The config node's answer to set_config: stored (bool), error (why not, or
+'') and values, the joint's {name: value} stored now."""
+
+
 class ConfigUnavailable(RuntimeError):
-    """get_config did not answer (config node not running, or the call failed)."""
+    """get_config or set_config did not answer (config node not running, or the call failed)."""
+
+
+def is_link_status(status, ns):
+    """Return True when a diagnostic_msgs/DiagnosticStatus is the serial link of the arm at ns.
+
+    Each per-arm status has hardware_id == interface.puppet_ns(side); the serial link's name
+    ends with interface.DIAG_LINK, whatever the serial node is called.
+    """
+    return status.hardware_id == ns and status.name.endswith(interface.DIAG_LINK)
 
 
 class PuppetClient:
@@ -32,10 +45,10 @@ class PuppetClient:
 
     Subscribes (under <ns> = /puppet/arm_<side>): heartbeat, opmode, teleop_state, user_btn,
         gripper_G, joint_J/{enc_stat,angle,voltage,setpoint}; and /diagnostics, keeping the
-        statuses whose name or hardware id mentions serial_<side>.
-    Publishes: <ns>/opmode (std_msgs/String), <ns>/joint_J/setpoint and
-        <ns>/joint_J/<setting> (std_msgs/Float32).
-    Calls: <ns>/get_config (robopuppet_msgs/GetConfig).
+        serial link's status of this arm (is_link_status).
+    Publishes: <ns>/opmode (std_msgs/String), <ns>/joint_J/setpoint (std_msgs/Float32).
+    Calls: <ns>/get_config (robopuppet_msgs/GetConfig), <ns>/set_config
+        (robopuppet_msgs/SetConfig).
     """
 
     def __init__(self, side, arm_state, clock=rospy.get_time):
@@ -43,39 +56,37 @@ class PuppetClient:
         self.ns = interface.puppet_ns(side)
         self.state = arm_state
         self._clock = clock
-        self._link_key = 'serial_%s' % side
-        ns = self.ns
 
-        def sub(topic, kind, callback, queue_size=QUEUE_SIZE, **kwargs):
-            return rospy.Subscriber(topic, kind, callback, queue_size=queue_size, **kwargs)
+        def topic(name):
+            return '%s/%s' % (self.ns, name)
+
+        def sub(name, kind, callback, queue_size=QUEUE_SIZE, **kwargs):
+            return rospy.Subscriber(name, kind, callback, queue_size=queue_size, **kwargs)
 
         self._subscribers = [
-            sub(ns + '/heartbeat', Empty, lambda _: arm_state.on_heartbeat(clock())),
-            sub(ns + '/opmode', String, self._on_opmode),
-            sub(ns + '/teleop_state', TeleopState, self._on_teleop),
-            sub(ns + '/user_btn', UInt8, lambda msg: arm_state.on_button(msg.data)),
-            sub('/diagnostics', DiagnosticArray, self._on_diagnostics,
+            sub(topic(interface.HEARTBEAT), Empty, lambda _: arm_state.on_heartbeat(clock())),
+            sub(topic(interface.OPMODE), String, self._on_opmode),
+            sub(topic(interface.TELEOP_STATE), TeleopState, self._on_teleop),
+            sub(topic(interface.USER_BUTTON), UInt8, lambda msg: arm_state.on_button(msg.data)),
+            sub(interface.DIAGNOSTICS, DiagnosticArray, self._on_diagnostics,
                 queue_size=DIAGNOSTICS_QUEUE_SIZE),
         ]
         for gripper in range(interface.NUM_GRIPPERS):
-            self._subscribers.append(sub('%s/gripper_%d' % (ns, gripper), Float32,
+            self._subscribers.append(sub(interface.gripper_topic(side, gripper), Float32,
                                          self._on_gripper, callback_args=gripper))
         for joint in settings.JOINTS:
-            topic = '%s/joint_%d/' % (ns, joint)
             self._subscribers += [
-                sub(topic + 'enc_stat', String, self._on_status, callback_args=joint),
-                sub(topic + 'angle', Float32, self._on_angle, callback_args=joint),
-                sub(topic + 'voltage', Float32, self._on_voltage, callback_args=joint),
-                sub(topic + 'setpoint', Float32, self._on_setpoint, callback_args=joint),
-            ]
-        self._opmode_pub = rospy.Publisher(ns + '/opmode', String, queue_size=1)
-        self._setpoint_pubs = [rospy.Publisher('%s/joint_%d/setpoint' % (ns, joint), Float32,
-                                               queue_size=1) for joint in settings.JOINTS]
-        self._setting_pubs = {
-            (joint, name): rospy.Publisher('%s/joint_%d/%s' % (ns, joint, name), Float32,
-                                           queue_size=len(settings.NAMES))
-            for joint in settings.JOINTS for name in settings.NAMES}
-        self._get_config = rospy.ServiceProxy(ns + '/get_config', GetConfig)
+                sub(interface.joint_topic(side, joint, name), kind, callback, callback_args=joint)
+                for name, kind, callback in (('enc_stat', String, self._on_status),
+                                             ('angle', Float32, self._on_angle),
+                                             ('voltage', Float32, self._on_voltage),
+                                             ('setpoint', Float32, self._on_setpoint))]
+        self._opmode_pub = rospy.Publisher(topic(interface.OPMODE), String, queue_size=1)
+        self._setpoint_pubs = [rospy.Publisher(interface.joint_topic(side, joint, 'setpoint'),
+                                               Float32, queue_size=1)
+                               for joint in settings.JOINTS]
+        self._get_config = rospy.ServiceProxy(topic(interface.GET_CONFIG), GetConfig)
+        self._set_config = rospy.ServiceProxy(topic(interface.SET_CONFIG), SetConfig)
 
     def now(self):
         """Return the current ROS time in s (the time base of the ArmState)."""
@@ -89,7 +100,7 @@ class PuppetClient:
         """
         if opmode not in interface.OPMODES:
             raise ValueError('opmode must be one of %s, got %r' % (interface.OPMODES, opmode))
-        if opmode == 'hold':
+        if opmode == interface.HOLD:
             for joint, values in enumerate(self.state.snapshot().joints):
                 if math.isfinite(values.angle_rad):
                     self.set_setpoint(joint, values.angle_rad)
@@ -98,10 +109,6 @@ class PuppetClient:
     def set_setpoint(self, joint, angle_rad):
         """Publish a joint's setpoint (rad; used by the puppet in hold mode)."""
         self._setpoint_pubs[joint].publish(Float32(angle_rad))
-
-    def set_setting(self, joint, name, value):
-        """Publish one setting; the config node stores it and the serial node forwards it."""
-        self._setting_pubs[joint, name].publish(Float32(value))
 
     def get_config(self, joint, timeout_s=1.0):
         """Return the stored {name: value} of a joint. Blocks: call it off the GUI thread.
@@ -112,12 +119,29 @@ class PuppetClient:
         Raises:
             ConfigUnavailable: the service is not there within timeout_s or the call failed.
         """
-        try:
-            self._get_config.wait_for_service(timeout_s)
-            response = self._get_config(joint)
-        except (rospy.ROSException, rospy.ServiceException) as error:
-            raise ConfigUnavailable('%s/get_config: %s' % (self.ns, error)) from None
+        response = self._call(self._get_config, interface.GET_CONFIG, timeout_s, joint)
         return {name: getattr(response, name) for name in settings.NAMES}
+
+    def set_config(self, joint, values, timeout_s=1.0):
+        """Ask the config node to store {name: value} of a joint, all or none; return a SetAnswer.
+
+        Blocks like get_config: call it off the GUI thread.
+
+        Raises:
+            ConfigUnavailable: the service is not there within timeout_s or the call failed.
+        """
+        names = list(values)
+        response = self._call(self._set_config, interface.SET_CONFIG, timeout_s, joint, names,
+                              [values[name] for name in names])
+        return SetAnswer(response.stored, response.error,
+                         {name: getattr(response.settings, name) for name in settings.NAMES})
+
+    def _call(self, proxy, service, timeout_s, *args):
+        try:
+            proxy.wait_for_service(timeout_s)
+            return proxy(*args)
+        except (rospy.ROSException, rospy.ServiceException) as error:
+            raise ConfigUnavailable('%s/%s: %s' % (self.ns, service, error)) from None
 
     def _on_opmode(self, msg):
         try:
@@ -132,7 +156,7 @@ class PuppetClient:
 
     def _on_diagnostics(self, msg):
         for status in msg.status:
-            if self._link_key in status.name or self._link_key in status.hardware_id:
+            if is_link_status(status, self.ns):
                 self.state.on_link(state.Link(
                     status.level, status.name, status.message,
                     tuple((kv.key, kv.value) for kv in status.values), self._clock()))
@@ -163,12 +187,13 @@ class SimPuppetClient:
     """
 
     def __init__(self, side):
-        ns = SIM_NAMESPACE % side
-        self.ns = ns
-        self._hand_pub = rospy.Publisher(ns + '/hand', JointState, queue_size=1, latch=True)
-        self._button_pub = rospy.Publisher(ns + '/button', UInt8, queue_size=4, latch=True)
-        self._grippers_pub = rospy.Publisher(ns + '/grippers', Float32MultiArray, queue_size=4,
-                                             latch=True)
+        self.ns = interface.sim_ns(side)
+        self._hand_pub = rospy.Publisher('%s/%s' % (self.ns, interface.SIM_HAND), JointState,
+                                         queue_size=1, latch=True)
+        self._button_pub = rospy.Publisher('%s/%s' % (self.ns, interface.SIM_BUTTON), UInt8,
+                                           queue_size=4, latch=True)
+        self._grippers_pub = rospy.Publisher('%s/%s' % (self.ns, interface.SIM_GRIPPERS),
+                                             Float32MultiArray, queue_size=4, latch=True)
 
     def connected(self):
         """Return True when a simulated puppet listens to the hand, button and grippers."""
@@ -177,7 +202,7 @@ class SimPuppetClient:
 
     def set_hand(self, angles_rad):
         """Publish the seven hand angles (rad)."""
-        msg = JointState(name=list(HAND_JOINTS), position=[float(a) for a in angles_rad])
+        msg = JointState(name=list(settings.JOINT_NAMES), position=[float(a) for a in angles_rad])
         msg.header.stamp = rospy.Time.now()
         self._hand_pub.publish(msg)
 

@@ -1,7 +1,7 @@
-"""Checks for what the operator types into a joint tab, before anything is published.
+"""Checks for what the operator types into a joint tab, before anything is sent.
 
-Pure: no Qt, no ROS. The rules are config_store.validate's (the config node's), applied to the
-whole form, so the GUI refuses exactly what the config node would refuse.
+Pure: no Qt, no ROS. The rules are config_store.check_request's (the config node's), applied to
+the whole form, so the GUI refuses exactly what the config node would refuse.
 """
 import math
 
@@ -31,8 +31,8 @@ def parse_form(joint, texts):
     Returns:
         {name: float32 value} for every setting.
     Raises:
-        EntryError: a field that is not a number, not finite, a sign that is not +-1, or a
-            minimum above its maximum (all problems, one per line).
+        EntryError: a field that is not a number, not finite, a sign that is not +-1, outside
+            its bound, or a minimum above its maximum (all problems, one per line).
     """
     values, errors = {}, []
     for name in settings.NAMES:
@@ -43,56 +43,11 @@ def parse_form(joint, texts):
             errors.append('%s: %r is not a number' % (name, text))
     if errors:
         raise EntryError('\n'.join(errors))
-    for name in settings.NAMES:
-        try:
-            config_store.validate(values, joint, name, values[name])
-        except config_store.InvalidSetting as error:
-            errors.append(str(error))
-    if errors:
-        raise EntryError('\n'.join(errors))
-    return values
-
-
-def publish_phases(joint, stored, changes):
-    """Split changes into phases that the config node accepts in whatever order they arrive.
-
-    Each setting is its own topic and ROS keeps no order across topics, so the settings of one
-    phase may be applied in any order (by the config node and by the serial node alike). The
-    caller publishes a phase, waits until get_config shows it stored, then publishes the next.
-    A minimum and a maximum that both change need two phases only when one must be stored
-    first: a new minimum above the stored maximum needs the new maximum first, a new maximum
-    below the stored minimum needs the new minimum first. Otherwise every step keeps min <= max.
-
-    Args:
-        joint: joint index 0..6.
-        stored: {name: value} the config node holds now (from get_config).
-        changes: {name: value} to send, each already checked by parse_form.
-    Returns:
-        [phase, ...], one or two lists of (name, value) in settings.NAMES order; [] when
-        changes is empty.
-    Raises:
-        EntryError: a change breaks the rules together with a stored value it leaves alone
-            (e.g. a new minimum above a stored maximum that someone else changed).
-    """
-    result = dict(stored, **changes)
-    errors = []
-    for name in changes:
-        try:
-            config_store.validate(result, joint, name, changes[name])
-        except config_store.InvalidSetting as error:
-            errors.append(str(error))
-    if errors:
-        raise EntryError('\n'.join(errors))
-    later = set()
-    for low, high in settings.RANGE_PAIRS:
-        if low in changes and high in changes:
-            if changes[low] > stored[high]:
-                later.add(low)
-            elif changes[high] < stored[low]:
-                later.add(high)
-    phases = [[(name, changes[name]) for name in settings.NAMES
-               if name in changes and (name in later) == second] for second in (False, True)]
-    return [phase for phase in phases if phase]
+    try:
+        return config_store.check_request(values, joint, settings.NAMES,
+                                          [values[name] for name in settings.NAMES])
+    except config_store.InvalidSetting as error:
+        raise EntryError('\n'.join(error.problems)) from None
 
 
 def parse_setpoint(text, stored=None):

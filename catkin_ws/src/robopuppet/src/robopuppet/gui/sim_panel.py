@@ -4,7 +4,7 @@ import math
 from PyQt5 import QtCore, QtWidgets
 
 from robopuppet import interface, settings
-from robopuppet.puppet_sim.puppet_model import REST_GRIPPERS, REST_POSE_RAD
+from robopuppet.puppet_sim.puppet_arm import REST_GRIPPERS, REST_POSE_RAD
 
 SLIDER_STEPS_PER_RAD = 1000  # slider resolution: 1 mrad
 GRIPPER_STEPS = 100

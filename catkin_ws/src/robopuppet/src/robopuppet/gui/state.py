@@ -8,8 +8,7 @@ import collections
 import math
 import threading
 
-from robopuppet import settings
-from robopuppet.interface import NUM_GRIPPERS, OPMODES
+from robopuppet import interface, settings
 
 SERIES = ('angle', 'voltage', 'setpoint')
 
@@ -38,7 +37,7 @@ class ArmState:
         self._voltage = [math.nan] * settings.NUM_JOINTS
         self._setpoint = [math.nan] * settings.NUM_JOINTS
         self._setpoint_sent = [False] * settings.NUM_JOINTS  # since the last limp
-        self._grippers = [math.nan] * NUM_GRIPPERS
+        self._grippers = [math.nan] * interface.NUM_GRIPPERS
         self._button = None
         self._last_button = 0
         self._opmode = None
@@ -86,14 +85,14 @@ class ArmState:
         to it since the last limp (the serial node fills in the current angles just so);
         leaving it ends the setpoint curves (NaN), so plots show setpoints only while holding.
         """
-        if opmode not in OPMODES:
-            raise ValueError('opmode must be one of %s, got %r' % (OPMODES, opmode))
+        if opmode not in interface.OPMODES:
+            raise ValueError('opmode must be one of %s, got %r' % (interface.OPMODES, opmode))
         with self._lock:
             if opmode == self._opmode:
                 return
             self._opmode = opmode
             for joint in settings.JOINTS:
-                if opmode == 'limp':
+                if opmode == interface.LIMP:
                     self._set_setpoint(joint, math.nan, now_s)
                     self._setpoint_sent[joint] = False
                 elif not self._setpoint_sent[joint]:
@@ -101,8 +100,9 @@ class ArmState:
 
     def on_gripper(self, gripper, reading):
         """Record a gripper reading (0-1)."""
-        if gripper not in range(NUM_GRIPPERS):
-            raise ValueError('gripper must be 0-%d, got %r' % (NUM_GRIPPERS - 1, gripper))
+        if gripper not in range(interface.NUM_GRIPPERS):
+            raise ValueError('gripper must be 0-%d, got %r'
+                             % (interface.NUM_GRIPPERS - 1, gripper))
         with self._lock:
             self._grippers[gripper] = reading
 
@@ -117,7 +117,7 @@ class ArmState:
         """Record the arm controller's state (a Teleop) and the opmode it reports."""
         with self._lock:
             self._teleop = teleop
-        if teleop.opmode in OPMODES:
+        if teleop.opmode in interface.OPMODES:
             self.on_opmode(teleop.opmode, teleop.received_s)
 
     def on_link(self, link):

@@ -1,1 +1,1 @@
-"""serial_X's subsystem: the puppet's serial frames, the link, state sets, device settings and the node."""
+"""serial_X's subsystem: frames, the link, state sets, settings, its pure core and node."""

@@ -1,4 +1,4 @@
-"""The puppet's serial protocol (DESIGN section 3): encode frames and decode a byte stream.
+"""The puppet's serial protocol (docs/serial.md): encode frames and decode a byte stream.
 
 Pure: no I/O, no clock, no rospy. A frame is START, id, payload (fixed length per id), checksum,
 where checksum is the sum of the payload bytes modulo 256. Multi-byte fields are little-endian.
@@ -43,7 +43,7 @@ def _message_type(class_name, msg_id, direction, *fields):
     return cls
 
 
-# The message table: one row per frame of DESIGN section 3.
+# The message table: one row per frame the 2020 firmware sends or takes.
 Heartbeat = _message_type('Heartbeat', 0x00, TO_HOST)
 Opmode = _message_type('Opmode', 0x10, TO_DEVICE, ('mode', U8, len(interface.OPMODES)))
 JointState = _message_type('JointState', 0x20, TO_HOST,

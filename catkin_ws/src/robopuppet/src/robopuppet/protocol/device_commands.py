@@ -1,7 +1,6 @@
 """What serial_X sends the puppet, in which order and in which writes (pure: no rospy, no clock).
 
-The rules come from the real 2020 firmware (DESIGN section 3, "What the real 2020 firmware
-does"):
+The rules come from the real 2020 firmware (its code, doates625/RoboPuppet; docs/serial.md):
 - It stores home_angle x the sign_angle in force when the home frame arrives, so sign_angle
   (and sign_motor) go before home_angle, and home_angle again after any change of sign_angle:
   loading the same settings twice then changes nothing.
@@ -18,7 +17,7 @@ from robopuppet import settings
 from robopuppet.protocol import codec
 
 USB_PACKET_BYTES = 64  # full-speed USB bulk packet of the Teensy's serial port
-LOAD_PAUSE_S = 0.005  # between the writes of a load: one packet at a time reaches the device
+LOAD_PAUSE_S = 0.005  # between two settings writes: one packet at a time reaches the device
 RATE_TOLERANCE = 0.2  # measured state-set rate vs ~comm_rate, as a fraction of ~comm_rate
 
 # Signs first: home_angle is stored with the sign in force when it arrives.

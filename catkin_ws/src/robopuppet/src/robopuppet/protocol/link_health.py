@@ -1,0 +1,88 @@
+"""How serial_X judges its link: a silence watch and the /diagnostics level and message.
+
+Pure: no rospy, no clock (time is an argument, in s).
+"""
+import collections
+import math
+
+from robopuppet import interface
+
+# diagnostic_msgs/DiagnosticStatus levels
+OK, WARN, ERROR = 0, 1, 2
+WAKE_S = 1.0  # while the device is silent, re-open its port this often
+
+Health = collections.namedtuple(
+    'Health', 'connected port silent loaded revision publishers heartbeat_age_s rate_problem '
+              'new_errors last_error')
+Health.__doc__ = """What the diagnostics level and message are made of.
+
+connected (the port is open), port (its name), silent (SilenceWatch.silent), loaded (the device
+holds the stored settings since the last (re)connect), revision (of the newest stored settings,
+None before any), publishers (of stored_settings, as the subscription sees them),
+heartbeat_age_s (None: none yet), rate_problem (device_commands.rate_problem's text or None),
+new_errors (callback errors survived since the last status), last_error (the newest one's text).
+"""
+
+
+class SilenceWatch:
+    """Tell when the device went silent: no whole set and no heartbeat for timeout_s.
+
+    Then the port is to be re-opened, and again every wake_s until frames arrive.
+    """
+
+    def __init__(self, timeout_s, wake_s=WAKE_S):
+        if not timeout_s > 0.0:
+            raise ValueError('the silence timeout must be positive, got %r' % (timeout_s,))
+        self._timeout_s, self._wake_s = timeout_s, wake_s
+        self._last_s = None  # the newest frame, connect or re-open
+        self.silent = False
+
+    def on_connect(self, now_s):
+        """The port was (re)opened at now_s: count the silence from here."""
+        self._last_s = now_s
+
+    def on_frames(self, now_s):
+        """A whole set or a heartbeat arrived at now_s; return True if the device was silent."""
+        self._last_s = now_s
+        was_silent, self.silent = self.silent, False
+        return was_silent
+
+    def due_s(self, connected):
+        """Return when check() has something to decide (math.inf: never, e.g. port closed)."""
+        if not connected or self._last_s is None:
+            return math.inf
+        return self._last_s + (self._wake_s if self.silent else self._timeout_s)
+
+    def check(self, now_s, connected):
+        """Return the seconds without a frame if the port is to be re-opened now, else None."""
+        if now_s < self.due_s(connected):
+            return None
+        quiet_s = now_s - self._last_s
+        self.silent = True
+        self._last_s = now_s
+        return quiet_s
+
+
+def level_and_message(health):
+    """Return the /diagnostics (level, message) for a Health: the worst problem first."""
+    topic = interface.STORED_SETTINGS
+    if not health.connected:
+        return ERROR, 'link down: %s not open' % health.port
+    if health.silent:
+        return ERROR, 'device silent'
+    if not health.loaded:
+        if health.revision is None:
+            return WARN, ('waiting for settings: none received on %s yet (%d publishers); '
+                          'joint states withheld' % (topic, health.publishers))
+        return WARN, 'loading settings (revision %d); joint states withheld' % health.revision
+    if health.heartbeat_age_s is None or health.heartbeat_age_s > interface.HEARTBEAT_TIMEOUT_S:
+        return WARN, 'link up, no heartbeat'
+    if not health.publishers:
+        return WARN, ('link up; nothing publishes %s: setting changes do not reach the puppet'
+                      % topic)
+    if health.rate_problem:
+        return WARN, 'link up; ' + health.rate_problem
+    if health.new_errors:
+        return WARN, ('link up; %d callback errors survived in the last second: %s'
+                      % (health.new_errors, health.last_error))
+    return OK, 'link up'

@@ -1,0 +1,234 @@
+"""Everything serial_X decides, in one pure core beneath the node.
+
+Sans-I/O: received bytes, stored settings, opmodes and setpoints go in; the outputs to publish
+(robopuppet.protocol.state_output), the writes (through the injected write callable) and what
+the node must do (re-open the port, publish diagnostics, when to step again) come out; the time
+comes from the injected clock. No rospy, no thread, not thread-safe: serial_X
+(robopuppet.protocol.serial_node) makes every call under its one lock, so all of the state has
+one owner.
+"""
+import collections
+
+from robopuppet import interface
+from robopuppet.protocol import codec, device_commands, link_health, state_output, state_set
+from robopuppet.protocol.device_settings import DeviceSettings
+
+DIAGNOSTICS_PERIOD_S = 1.0
+IMPLAUSIBLE_LOG_S = 10.0  # an implausible frame is logged at most this often
+RATE_LOG_S = 30.0  # a state rate that disagrees with comm_rate is logged at most this often
+WRITE_LOG_S = 5.0  # a command that cannot be written is logged at most this often
+
+LinkFacts = collections.namedtuple(
+    'LinkFacts', 'connected connects write_errors callback_errors last_error publishers')
+LinkFacts.__doc__ = """What the node knows of its port and subscription when it steps the core:
+connected (the port is open), connects, write_errors, callback_errors (totals), last_error (the
+newest callback error's text), publishers (of stored_settings)."""
+Actions = collections.namedtuple('Actions', 'reopen diagnostics next_s')
+Actions.__doc__ = """What step() asks of the node: reopen (the port, the device is silent),
+diagnostics (a Diagnostics to publish, or None), next_s (clock time of the next step at the
+latest)."""
+Diagnostics = collections.namedtuple('Diagnostics', 'level message values')
+Diagnostics.__doc__ = """One /diagnostics status: level (link_health.OK, WARN or ERROR), message,
+values ((key, text) pairs)."""
+
+
+class SerialCore:
+    """The puppet's link as serial_X sees it: state sets, settings, commands and health.
+
+    Args:
+        write(data): put bytes on the port as one write; return False if they did not go out.
+        clock(): monotonic time, s.
+        log_info(text), log_warn(text): where the node's log lines go.
+        port_name: the serial port, for log lines and diagnostics.
+        source: the stored_settings topic, for log lines.
+        topic_rate_hz: cap of the per-joint topics (state_output.StateOutput).
+        silence_timeout_s: no whole set or heartbeat for this long re-opens the port.
+        comm_rate_hz: the state-set rate the firmware is expected to send, 0: no check.
+        pause_s: the least time between two settings writes, s.
+    Raises:
+        ValueError: a rate or timeout out of range.
+    """
+
+    def __init__(self, write, clock, log_info, log_warn, port_name, source, topic_rate_hz=100.0,
+                 silence_timeout_s=3.0, comm_rate_hz=0.0, pause_s=device_commands.LOAD_PAUSE_S):
+        if not topic_rate_hz > 0.0 or not comm_rate_hz >= 0.0:
+            raise ValueError('the topic rate must be positive and comm_rate positive or 0 (no '
+                             'check), got %r and %r' % (topic_rate_hz, comm_rate_hz))
+        self._write, self._clock = write, clock
+        self._log_info, self._log_warn = log_info, log_warn
+        self._port, self._comm_rate_hz = port_name, comm_rate_hz
+        self._settings = DeviceSettings(write, clock, log_info, log_warn, source, pause_s)
+        self.receiver = state_set.Receiver(self._settings.voltage_limits)
+        self._output = state_output.StateOutput(1.0 / topic_rate_hz)
+        self._silence = link_health.SilenceWatch(silence_timeout_s)
+        self._hold = device_commands.HoldGate()
+        self._rate = device_commands.RateMeter()
+        self._rate_epoch = None
+        self._heartbeat_s = None
+        self._next_diagnostics_s = 0.0
+        self._frames_before = 0
+        self._errors_reported = 0
+        self._logged = {}  # what: clock time of its last throttled log line
+
+    @property
+    def loaded(self):
+        """Return True while the device holds the stored settings, loaded since the last
+        (re)connect."""
+        return self._settings.loaded_since_s is not None
+
+    # Device -> host ------------------------------------------------------------------------
+    def on_connect(self):
+        """The port was (re)opened: the device may hold other settings now."""
+        self._silence.on_connect(self._clock())
+        # A silent device gets its settings when it talks again.
+        self._settings.unload(load=not self._silence.silent)
+
+    def on_data(self, data):
+        """Take bytes received from the port; return the outputs to publish, in order."""
+        now = self._clock()
+        receiver, decoder = self.receiver, self.receiver.decoder
+        refused = receiver.implausible_frames + decoder.invalid_frames
+        events = receiver.feed(data, now)
+        if receiver.implausible_frames + decoder.invalid_frames != refused:
+            self._throttled('implausible', IMPLAUSIBLE_LOG_S, 'dropped an implausible frame from '
+                            '%s (%d so far): %s' % (self._port, refused + 1, receiver.last_problem))
+        if not events:
+            return []
+        # Only whole sets and healthy heartbeats count as the device talking: noise is not life.
+        if self._silence.on_frames(now):
+            self._log_info('frames from %s again; reloading the settings in case the device '
+                           'restarted' % self._port)
+            self._settings.unload(load=True)
+        outputs = self._output.on_events(events, now, self._settings.loaded_since_s)
+        for output in outputs:
+            if type(output) is state_output.Heartbeat:
+                self._heartbeat_s = now
+            elif type(output) is state_output.JointStates:
+                self._on_joint_states(output.positions, now)
+        return outputs
+
+    def _on_joint_states(self, positions, now):
+        """The hold gets the current angles, and the rate check its count since the load."""
+        epoch = self._settings.epoch
+        self._hold.on_angles(positions, epoch)
+        if epoch != self._rate_epoch:
+            self._rate.restart(now)
+            self._rate_epoch = epoch
+        self._rate.add(now)
+
+    # Host -> device ------------------------------------------------------------------------
+    def on_stored(self, revision, joints):
+        """Take config_X's newest stored settings (see DeviceSettings.on_stored)."""
+        self._settings.on_stored(revision, joints)
+
+    def step_due(self):
+        """Return True if step() has work now (e.g. after on_stored or a device that talks
+        again), so that the node steps at once rather than at its next planned step."""
+        return self._settings.next_step_s <= self._clock()
+
+    def on_opmode(self, mode):
+        """Send an opmode ('limp' or 'hold'); a hold only with a setpoint for every joint.
+
+        The firmware holds the setpoints it has (0 rad after power-on or limp), so a hold
+        without seven setpoints since the last limp/connect first sends the current angles as
+        the missing ones, in the same write; with no current angles it is refused (logged).
+        """
+        if mode not in interface.OPMODES:
+            self._log_warn('opmode must be one of %s, got %r; ignored'
+                           % ('/'.join(interface.OPMODES), mode))
+            return
+        if mode != interface.HOLD:
+            self._send([codec.Opmode(interface.OPMODES.index(mode))], 'opmode ' + mode)
+            return
+        plan = self._hold.plan_hold(self._settings.epoch)
+        if plan.refusal:
+            self._log_warn('hold refused: %s; send joint_J/setpoint for every joint first, or '
+                           'wait for the joint states' % plan.refusal)
+            return
+        filled = [m.joint for m in plan.messages if isinstance(m, codec.JointSetpoint)]
+        if filled:
+            self._log_info('hold: joints %s had no setpoint since the last limp or connect; '
+                           'their current angles go first' % filled)
+        self._send(plan.messages, 'opmode hold')
+
+    def on_setpoint(self, joint, angle_rad):
+        """Send a joint's setpoint (rad), used by the device in hold."""
+        self._send([codec.JointSetpoint(joint, angle_rad)], 'joint %d setpoint' % joint)
+
+    def _send(self, messages, what):
+        """Send messages in whole-frame writes of <= 64 bytes; the hold gate notes them."""
+        epoch = self._settings.epoch  # before the write: see device_commands.HoldGate
+        try:
+            writes = device_commands.pack([codec.encode(m) for m in messages])
+        except codec.CodecError as error:
+            self._log_warn('not sending %s: %s' % (what, error))
+            return
+        if not all(self._write(data) for data in writes):
+            self._throttled('write', WRITE_LOG_S, '%s not sent: serial port %s is not connected'
+                            % (what, self._port))
+            return
+        self._hold.record(messages, epoch)
+
+    # Timing and health -----------------------------------------------------------------------
+    def step(self, link):
+        """Do what is due: a settings write, a re-open of a silent port, the diagnostics.
+
+        Args:
+            link: the LinkFacts of now.
+        Returns:
+            Actions for the node.
+        """
+        self._settings.step()
+        now = self._clock()
+        was_silent = self._silence.silent
+        quiet_s = self._silence.check(now, link.connected)
+        if quiet_s is not None and not was_silent:
+            self._log_warn('no frame from %s for %.1f s; re-opening the port every %.0f s until '
+                           'it talks' % (self._port, quiet_s, link_health.WAKE_S))
+        diagnostics = None
+        if now >= self._next_diagnostics_s:
+            diagnostics = self._diagnostics(now, link)
+            self._next_diagnostics_s = now + DIAGNOSTICS_PERIOD_S
+        next_s = min(self._settings.next_step_s, self._silence.due_s(link.connected),
+                     self._next_diagnostics_s)
+        return Actions(quiet_s is not None, diagnostics, next_s)
+
+    def _diagnostics(self, now, link):
+        rate_hz = self._rate.rate_hz(now)
+        rate = device_commands.rate_problem(rate_hz, self._comm_rate_hz)
+        if rate:
+            self._throttled('rate', RATE_LOG_S, rate)
+        new_errors = link.callback_errors - self._errors_reported
+        self._errors_reported = link.callback_errors
+        age_s = None if self._heartbeat_s is None else now - self._heartbeat_s
+        revision = self._settings.revision
+        level, message = link_health.level_and_message(link_health.Health(
+            link.connected, self._port, self._silence.silent, self.loaded, revision,
+            link.publishers, age_s, rate, new_errors, link.last_error))
+        rx, dec = self.receiver, self.receiver.decoder
+        frames_per_s, self._frames_before = dec.frames - self._frames_before, dec.frames
+        values = (
+            ('port', self._port), ('link', 'up' if link.connected else 'down'),
+            ('settings loaded', str(self.loaded)),
+            ('stored settings', 'none yet' if revision is None else 'revision %d' % revision),
+            ('stored settings publishers', str(link.publishers)),
+            ('frames per s', str(frames_per_s)),
+            ('s since heartbeat', 'never' if age_s is None else '%.1f' % age_s),
+            ('dropped bytes', str(dec.dropped_bytes)), ('bad checksums', str(dec.bad_checksums)),
+            ('unknown ids', str(dec.unknown_ids)), ('invalid frames', str(dec.invalid_frames)),
+            ('incomplete joint sets', str(rx.dropped_sets)), ('stray frames', str(rx.stray_frames)),
+            ('implausible frames', str(rx.implausible_frames)),
+            ('refused heartbeats', str(rx.refused_heartbeats)),
+            ('connects', str(link.connects)), ('write errors', str(link.write_errors)),
+            ('state sets per s', 'measuring' if rate_hz is None else '%.1f' % rate_hz),
+            ('comm_rate', '%.1f' % self._comm_rate_hz if self._comm_rate_hz else 'unset'),
+            ('callback errors', str(link.callback_errors)))
+        return Diagnostics(level, message, values)
+
+    def _throttled(self, what, period_s, text):
+        """Log a warning, but a warning of the same kind at most once per period_s."""
+        now = self._clock()
+        last = self._logged.get(what)
+        if last is None or now - last >= period_s:
+            self._logged[what] = now
+            self._log_warn(text)

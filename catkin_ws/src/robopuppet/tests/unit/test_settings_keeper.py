@@ -1,0 +1,140 @@
+"""A request to the config node: checked together, stored all or none, written once, counted."""
+import errno
+
+import pytest
+
+from robopuppet import settings
+from robopuppet.config import config_store
+from robopuppet.config.settings_keeper import SettingsKeeper
+
+PATH = '/nowhere/arm_R.ini'
+F32 = config_store.to_float32
+
+
+def stored_joint():
+    return config_store.defaults()[2]
+
+
+@pytest.mark.parametrize('names, values', [
+    (['angle_min', 'angle_max'], [2.0, 3.0]),     # a new minimum above the stored maximum
+    (['angle_max', 'angle_min'], [3.0, 2.0]),     # the same in the other order
+    (['angle_min', 'angle_max'], [-3.0, -2.0]),   # a new maximum below the stored minimum
+    (['voltage_min', 'voltage_max'], [1.0, 1.0]),  # equal is allowed
+])
+def test_a_minimum_and_its_maximum_are_checked_after_the_whole_request(names, values):
+    result = config_store.check_request(stored_joint(), 2, names, values)
+    assert [result[name] for name in names] == [F32(v) for v in values]
+
+
+@pytest.mark.parametrize('names, values, problem', [
+    (['angle_min', 'angle_max'], [1.0, 0.5], 'joint 2 angle_min = 1.0: above angle_max = 0.5'),
+    (['angle_max'], [-2.0], 'joint 2 angle_max = -2.0: below angle_min = -1.571'),
+    (['angle_min'], [1.6], 'joint 2 angle_min = 1.6: above angle_max = 1.571'),
+    (['pid_kp', 'pid_kp'], [1.0, 2.0], 'joint 2 pid_kp = 2.0: pid_kp is named twice'),
+    (['pid_kp'], [1.0, 2.0], 'joint 2: 1 setting names but 2 values'),
+    (['pid_kp', 'pid_kq'], [1.0, 2.0], "joint 2: unknown setting 'pid_kq'"),
+])
+def test_a_request_is_refused_naming_why(names, values, problem):
+    with pytest.raises(config_store.InvalidSetting) as error:
+        config_store.check_request(stored_joint(), 2, names, values)
+    assert error.value.problems == (problem,)
+
+
+def test_every_problem_of_a_request_is_named_and_a_bad_value_hides_no_other():
+    with pytest.raises(config_store.InvalidSetting) as error:
+        config_store.check_request(stored_joint(), 2,
+                                   ['pid_kp', 'sign_motor', 'voltage_min', 'voltage_max',
+                                    'angle_min'],
+                                   [float('nan'), 0.5, 5.0, 4.0, 9.0])
+    problems = error.value.problems
+    assert [p.split(':')[0] for p in problems] == [
+        'joint 2 pid_kp = nan', 'joint 2 sign_motor = 0.5', 'joint 2 angle_min = 9.0',
+        'joint 2 voltage_min = 5.0']
+    assert 'outside its bound' in problems[2] and 'above voltage_max = 4' in problems[3]
+    assert str(error.value) == '; '.join(problems)
+
+
+class FakeFile:
+    """The ini file as write sees it: the texts written, or an OSError to raise."""
+
+    def __init__(self):
+        self.writes = []
+        self.error = None
+
+    def write(self, path, text):
+        assert path == PATH
+        if self.error:
+            raise self.error
+        self.writes.append(text)
+
+
+def keeper(unwritable=''):
+    disk = FakeFile()
+    text = config_store.default_text()
+    config, _ = config_store.parse(text)
+    return SettingsKeeper(config, text, unwritable, PATH, disk.write), disk
+
+
+def test_a_good_request_is_written_once_counted_and_served():
+    store, disk = keeper()
+    answer = store.request(3, ['angle_min', 'angle_max', 'pid_kd'], [2.0, 2.5, 0.25])
+    assert answer.stored and answer.written and answer.error == ''
+    assert answer.values == dict(config_store.defaults()[3], angle_min=2.0, angle_max=2.5,
+                                 pid_kd=0.25)
+    assert store.joint(3) == answer.values and store.revision == 1
+    assert len(disk.writes) == 1
+    on_disk, problems = config_store.parse(disk.writes[0])
+    assert problems == [] and on_disk[3] == answer.values
+    assert on_disk[4] == config_store.defaults()[4]
+    changed = [line for line in disk.writes[0].splitlines()
+               if line not in config_store.default_text().splitlines()]
+    assert changed == ['angle_min = 2', 'angle_max = 2.5', 'pid_kd = 0.25']
+    revision, joints = store.all_joints()
+    assert revision == 1 and joints[3] == answer.values and len(joints) == settings.NUM_JOINTS
+
+
+def test_a_request_equal_to_what_is_stored_is_stored_without_a_write():
+    store, disk = keeper()
+    answer = store.request(1, ['pid_kp', 'sign_angle'], [0.0, 1.0])
+    assert answer.stored and not answer.written and answer.error == ''
+    assert disk.writes == [] and store.revision == 0
+
+
+@pytest.mark.parametrize('joint, names, values, words', [
+    (1, ['pid_kp', 'sign_motor'], [2.0, 0.5], 'sign must be'),
+    (1, ['angle_min', 'pid_kp'], [1.6, 2.0], 'above angle_max'),
+    (1, ['pid_kp'], [], '1 setting names but 0 values'),
+    (9, ['pid_kp'], [2.0], 'valid joints are 0-6'),
+])
+def test_a_refused_request_changes_nothing_and_says_why(joint, names, values, words):
+    store, disk = keeper()
+    answer = store.request(joint, names, values)
+    assert not answer.stored and not answer.written and not answer.persistence
+    assert words in answer.error
+    assert answer.values == (None if joint == 9 else config_store.defaults()[joint])
+    assert store.joint(1)['pid_kp'] == 0.0, 'the good value of a refused request is not kept'
+    assert disk.writes == [] and store.revision == 0
+
+
+def test_an_unwritable_file_refuses_every_request_with_its_reason():
+    store, disk = keeper(unwritable='cannot repair /nowhere/arm_R.ini: Read-only file system')
+    answer = store.request(0, ['pid_kp'], [1.0])
+    assert not answer.stored and answer.persistence
+    assert answer.error == ('changes will not persist (cannot repair /nowhere/arm_R.ini: '
+                            'Read-only file system)')
+    assert answer.values == config_store.defaults()[0]
+    assert disk.writes == [] and store.revision == 0
+
+
+def test_a_failed_write_changes_nothing_and_the_next_good_request_starts_from_the_old_text():
+    store, disk = keeper()
+    disk.error = OSError(errno.ENOSPC, 'No space left on device')
+    answer = store.request(0, ['pid_kp'], [1.0])
+    assert not answer.stored and answer.persistence
+    assert 'could not save it to %s' % PATH in answer.error and 'No space left' in answer.error
+    assert store.joint(0)['pid_kp'] == 0.0 and store.revision == 0
+    disk.error = None
+    answer = store.request(0, ['pid_ki'], [0.5])
+    assert answer.stored and store.revision == 1
+    on_disk, _ = config_store.parse(disk.writes[0])
+    assert on_disk[0]['pid_kp'] == 0.0 and on_disk[0]['pid_ki'] == 0.5
