@@ -31,6 +31,7 @@ import rospy
 from baxter_core_msgs.msg import JointCommand
 from sensor_msgs.msg import JointState
 
+from robopuppet import interface
 from robopuppet.protocol import codec
 
 from bench_support import percentile, private_roscore
@@ -71,8 +72,9 @@ class Device:
             with self.lock:
                 frames = [codec.encode(codec.JointState(j, 0, a, 0.0))
                           for j, a in enumerate(self.angles)]
-                frames += [codec.encode(codec.Gripper(g, 1.0 if g == 3 else 0.0))
-                           for g in range(4)]
+                frames += [codec.encode(codec.Gripper(g, 1.0 if g == interface.END_PIECE_GRIPPER
+                                                   else 0.0))
+                           for g in range(interface.NUM_GRIPPERS)]
                 frames.append(codec.encode(codec.Buttons(self.button)))
             if time.monotonic() >= beat_t:
                 frames.insert(0, codec.encode(codec.Heartbeat()))
@@ -137,13 +139,14 @@ def run_scenario(name, rate_hz, legacy, samples, work, log):
     """Run one configuration; return (latencies s, cpu shares % by node, command count)."""
     link = os.path.join(work, 'puppet_%s' % name.replace(' ', '_'))
     device = Device(link, rate_hz)
-    states_topic = '/puppet/arm_R/joint_states'
+    states_topic = '%s/%s' % (interface.puppet_ns('R'), interface.JOINT_STATES)
     relays = []
-    arm_args = ['_command_rate:=100']
+    arm_args = ['_command_rate:=100', '_comm_rate:=%g' % rate_hz]
     if legacy:
         relays = [Relay(states_topic, '/bench/serial_loop', 10.0),
                   Relay('/bench/serial_loop', '/bench/arm_loop', 10.0)]
-        arm_args = ['_command_rate:=10', '/puppet/arm_R/joint_states:=/bench/arm_loop']
+        arm_args = ['_command_rate:=10', '_comm_rate:=%g' % rate_hz,
+                    '%s:=/bench/arm_loop' % states_topic]
     ini = os.path.join(work, 'arm_R_%s.ini' % name.replace(' ', '_'))
     processes = {
         'config': start(['rosrun', 'robopuppet', 'config', '__name:=config_R', '_arm_side:=R',
@@ -164,12 +167,12 @@ def run_scenario(name, rate_hz, legacy, samples, work, log):
             watch['t'] = now
             watch['hit'].set()
 
-    sub = rospy.Subscriber('/robot/limb/right/joint_command', JointCommand, on_command,
+    sub = rospy.Subscriber(interface.limb_topic('right', 'joint_command'), JointCommand, on_command,
                            queue_size=1000, tcp_nodelay=True)
     try:
         time.sleep(4.0)  # nodes up, settings loaded, Baxter enabled
         with device.lock:
-            device.button = 3
+            device.button = interface.BUTTON_RIGHT
         time.sleep(0.5)
         with device.lock:
             device.button = 0

@@ -8,7 +8,8 @@ import rosnode
 import rospy
 import rostest
 
-from robopuppet.arm import teleop
+from robopuppet import interface
+from robopuppet.arm.joint_motion import mirror
 from teleop_harness import Baxter, PuppetArm, calibrate, max_error, wait_for
 
 POSE_A = [0.2, 0.4, 0.3, 1.0, -0.3, 0.6, 0.25]
@@ -19,72 +20,75 @@ class MainSimTest(unittest.TestCase):
 
     def test_operator_session(self):
         puppet, baxter = PuppetArm('R'), Baxter()
-        wait_for(lambda: puppet.state() == teleop.CALIBRATING, 30,
+        wait_for(lambda: puppet.state() == interface.CALIBRATING, 30,
                  'arm_R calibrating with Baxter enabled (now %s)' % puppet.state())
         self.assertTrue(all(not c for c in baxter.commands.values()),
                         'no joint command before calibration')
         puppet.end_piece(False)
 
         calibrate(puppet, POSE_A)
-        wait_for(lambda: puppet.state() == teleop.READY, 5, 'ready')
+        wait_for(lambda: puppet.state() == interface.READY, 5, 'ready')
 
         # Button 3: Baxter's right arm follows, approaching slowly, then tracks the hand.
-        puppet.press(3)
-        wait_for(lambda: puppet.teleop.follow_right and puppet.state() == teleop.FOLLOWING, 5,
+        puppet.press(interface.BUTTON_RIGHT)
+        wait_for(lambda: puppet.teleop.follow_right and puppet.state() == interface.FOLLOWING, 5,
                  'following right')
-        for k in range(40):  # a slow hand trajectory, 4 s
+        for k in range(40):  # a slow hand trajectory: a step per state set, 4 s at 10 Hz
             pose = list(POSE_A)
             pose[0] = POSE_A[0] + 0.3 * math.sin(k / 40 * 2 * math.pi)
             pose[3] = POSE_A[3] + 0.2 * math.sin(k / 40 * 2 * math.pi)
             puppet.hand(pose)
-            time.sleep(0.1)
+            puppet.wait_sets(1)
         wait_for(lambda: max_error(baxter.arm('right'), puppet.angles) < 0.01, 20,
                  'right arm on the puppet pose')
         self.assert_commands_safe(baxter, 'right')
 
         # Button 2: the left arm mirrors the puppet.
-        puppet.press(2)
-        wait_for(lambda: max_error(baxter.arm('left'), teleop.mirror(puppet.angles)) < 0.01, 20,
+        puppet.press(interface.BUTTON_LEFT)
+        wait_for(lambda: max_error(baxter.arm('left'), mirror(puppet.angles)) < 0.01, 20,
                  'left arm on the mirrored puppet pose')
         self.assertTrue(puppet.teleop.follow_left and puppet.teleop.follow_right)
 
         # The end-piece button closes and opens both following grippers.
         puppet.end_piece(True)
-        wait_for(lambda: all(baxter.gripper[s].position < 5 for s in teleop.SIDES), 10,
+        wait_for(lambda: all(baxter.gripper[s].position < 5 for s in interface.BAXTER_SIDES), 10,
                  'both grippers closed')
         puppet.end_piece(False)
-        wait_for(lambda: all(baxter.gripper[s].position > 95 for s in teleop.SIDES), 10,
+        wait_for(lambda: all(baxter.gripper[s].position > 95 for s in interface.BAXTER_SIDES), 10,
                  'both grippers open')
 
         # Stop following, move the puppet away, let go and press 1: hold drives the puppet to
         # Baxter's right arm.
-        puppet.press(2)
-        puppet.press(3)
-        wait_for(lambda: puppet.state() == teleop.READY, 5, 'ready again')
+        puppet.press(interface.BUTTON_LEFT)
+        puppet.press(interface.BUTTON_RIGHT)
+        wait_for(lambda: puppet.state() == interface.READY, 5, 'ready again')
         robot = baxter.arm('right')
         away = [a + (0.3 if j in (0, 3) else 0.0) for j, a in enumerate(POSE_A)]
         puppet.hand(away)
         wait_for(lambda: max_error(puppet.angles, away) < 0.05, 10, 'puppet moved away')
         puppet.hand([math.nan] * 7)
-        puppet.press(1)
-        wait_for(lambda: puppet.teleop.opmode == 'hold', 5, 'opmode hold')
+        puppet.press(interface.BUTTON_HOLD)
+        wait_for(lambda: puppet.teleop.opmode == interface.HOLD, 5, 'opmode hold')
         wait_for(lambda: max_error(puppet.angles, robot) < 0.05, 15,
                  'puppet at Baxter pose %s (now %s)' % (robot, puppet.angles))
-        puppet.press(1)
-        wait_for(lambda: puppet.teleop.opmode == 'limp', 5, 'opmode limp')
+        puppet.press(interface.BUTTON_HOLD)
+        wait_for(lambda: puppet.teleop.opmode == interface.LIMP, 5, 'opmode limp')
 
         # Follow again, then the puppet dies: commands stop within 0.5 s of its last data.
         puppet.hand(puppet.angles)
-        puppet.press(3)
-        wait_for(lambda: puppet.state() == teleop.FOLLOWING, 5, 'following again')
-        time.sleep(1.0)
+        puppet.press(interface.BUTTON_RIGHT)
+        wait_for(lambda: puppet.state() == interface.FOLLOWING, 5, 'following again')
+        wait_for(lambda: max_error(baxter.arm('right'), puppet.angles) < 0.02, 20,
+                 'right arm on the puppet pose again')
         rosnode.kill_nodes(['/puppet_sim_R'])
-        wait_for(lambda: puppet.state() == teleop.FAULT, 5, 'fault after the puppet died')
-        time.sleep(1.0)
+        wait_for(lambda: puppet.state() == interface.FAULT, 5, 'fault after the puppet died')
+        self.assertIn('joint states', puppet.teleop.detail)
+        # arm_R reports again (at least every 0.5 s) after it stopped: it has had its say.
+        fault_t = time.monotonic()
+        wait_for(lambda: puppet.reports_since(fault_t), 5, 'a teleop_state after the fault')
         last_data = puppet.states_t[-1]
         last_command = baxter.commands['right'][-1][0]
-        self.assertLess(last_command - last_data, 0.5)
-        self.assertIn('joint states', puppet.teleop.detail)
+        self.assertLess(last_command - last_data, interface.STOP_WITHIN_S)
 
     def assert_commands_safe(self, baxter, side):
         """Every command names the arm's joints, stays in limits and never jumps."""

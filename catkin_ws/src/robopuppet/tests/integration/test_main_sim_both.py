@@ -6,7 +6,7 @@ import unittest
 import rospy
 import rostest
 
-from robopuppet.arm import teleop
+from robopuppet import interface
 from teleop_harness import Baxter, PuppetArm, calibrate, max_error, wait_for
 
 POSE_L = [-0.3, 0.3, 0.4, 1.2, 0.2, 0.5, -0.2]
@@ -18,13 +18,13 @@ class BothArmsTest(unittest.TestCase):
     def test_each_puppet_drives_its_own_side(self):
         left, right, baxter = PuppetArm('L'), PuppetArm('R'), Baxter()
         for puppet in (left, right):
-            wait_for(lambda: puppet.state() == teleop.CALIBRATING, 30,
+            wait_for(lambda: puppet.state() == interface.CALIBRATING, 30,
                      'arm_%s calibrating' % puppet.side)
             puppet.end_piece(False)
         calibrate(left, POSE_L)
         calibrate(right, POSE_R)
-        left.press(2)
-        right.press(3)
+        left.press(interface.BUTTON_LEFT)
+        right.press(interface.BUTTON_RIGHT)
         wait_for(lambda: left.teleop.follow_left and not left.teleop.follow_right, 5,
                  'L puppet drives the left arm only')
         wait_for(lambda: right.teleop.follow_right and not right.teleop.follow_left, 5,
@@ -33,17 +33,16 @@ class BothArmsTest(unittest.TestCase):
                  and max_error(baxter.arm('right'), right.angles) < 0.01, 20,
                  'each arm on its own puppet pose')
         # The right puppet cannot take the left arm from the left puppet.
-        right.press(2)
-        time.sleep(0.5)
+        right.press(interface.BUTTON_LEFT)
+        wait_for(lambda: 'other puppet' in right.teleop.detail, 5,
+                 'the R puppet told that the other puppet drives the left arm')
         self.assertFalse(right.teleop.follow_left)
-        self.assertIn('other puppet', right.teleop.detail)
         # The two puppets differ, so neither arm can be following the other puppet.
         self.assertGreater(max_error(left.angles, right.angles), 0.3)
         # Each puppet talks to its own serial port: both report at their state rate.
-        count_l, count_r = len(left.states_t), len(right.states_t)
-        time.sleep(2.0)
-        self.assertGreater(len(left.states_t) - count_l, 15)
-        self.assertGreater(len(right.states_t) - count_r, 15)
+        start = time.monotonic()
+        wait_for(lambda: left.sets_since(start) > 15 and right.sets_since(start) > 15, 5,
+                 'state sets from both puppets')
 
 
 if __name__ == '__main__':

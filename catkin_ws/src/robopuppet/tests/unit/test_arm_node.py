@@ -1,24 +1,24 @@
-"""Tests of the pure helpers of robopuppet.arm.arm_node (puppet joint_states matched by name)."""
+"""Tests of what arm_X's node turns its messages into (robopuppet.arm.readings, pure)."""
 import math
 
 import pytest
-from sensor_msgs.msg import JointState
 
-from robopuppet.arm.arm_node import joint_angles
+from robopuppet import baxter_description, settings
+from robopuppet.arm.readings import arm_poses, joint_angles, non_finite_joints, positive
 
-NAMES = ['joint_%d' % j for j in range(7)]
+NAMES = list(settings.JOINT_NAMES)
+BAXTER_NAMES = {side: baxter_description.arm_joint_names(side) for side in ('left', 'right')}
 
 
 def test_joint_states_are_matched_by_name_not_by_index():
     angles = [0.1 * (j + 1) for j in range(7)]
-    msg = JointState(name=list(reversed(NAMES)), position=list(reversed(angles)))
-    assert joint_angles(msg) == pytest.approx(angles)
+    assert joint_angles(list(reversed(NAMES)), list(reversed(angles))) == pytest.approx(angles)
 
 
 def test_extra_joints_are_ignored_and_non_finite_angles_pass_through_for_teleop():
-    msg = JointState(name=NAMES + ['joint_7'], position=[0.0, math.nan] + [0.2] * 6)
-    angles = joint_angles(msg)
+    angles = joint_angles(NAMES + ['joint_7'], [0.0, math.nan] + [0.2] * 6)
     assert len(angles) == 7 and math.isnan(angles[1])
+    assert non_finite_joints(angles) == ['joint_1']
 
 
 @pytest.mark.parametrize('names, positions, match', [
@@ -30,4 +30,32 @@ def test_extra_joints_are_ignored_and_non_finite_angles_pass_through_for_teleop(
 def test_joint_states_without_the_seven_names_are_refused_with_the_reason(names, positions,
                                                                          match):
     with pytest.raises(ValueError, match=match):
-        joint_angles(JointState(name=names, position=positions))
+        joint_angles(names, positions)
+
+
+def test_baxter_arms_are_matched_by_name_and_an_incomplete_arm_is_left_out():
+    right = BAXTER_NAMES['right']
+    names = ['head_pan'] + list(reversed(right)) + BAXTER_NAMES['left'][:6]
+    positions = [9.0] + [0.1 * (7 - k) for k in range(7)] + [0.0] * 6
+    poses, speeds = arm_poses(names, positions, [], BAXTER_NAMES)
+    assert poses == {'right': pytest.approx([0.1 * (k + 1) for k in range(7)])}
+    assert speeds['right'] == [0.0] * 7  # no velocities: none assumed
+
+
+def test_baxter_velocities_count_only_when_there_is_one_per_name():
+    right = BAXTER_NAMES['right']
+    _, speeds = arm_poses(right, [0.0] * 7, [0.5] * 7, BAXTER_NAMES)
+    assert speeds['right'] == [0.5] * 7
+    _, speeds = arm_poses(right, [0.0] * 7, [0.5] * 6, BAXTER_NAMES)
+    assert speeds['right'] == [0.0] * 7
+
+
+@pytest.mark.parametrize('value', ['fast', None, math.nan, math.inf, 0.0, -1.0, 5.0])
+def test_a_parameter_that_is_not_a_positive_number_of_at_least_its_minimum_is_refused(value):
+    with pytest.raises(ValueError, match='~command_rate'):
+        positive('~command_rate', value, minimum=10.0)
+
+
+def test_a_good_parameter_is_returned_as_a_float():
+    assert positive('~comm_rate', '2') == 2.0
+    assert positive('~command_rate', 10, minimum=10.0) == 10.0

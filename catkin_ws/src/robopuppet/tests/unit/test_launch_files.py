@@ -1,4 +1,5 @@
-"""Unit tests of the launch files: arguments, and how arm.launch wires the nodes of one arm."""
+"""Unit tests of the launch files: arguments, each default in one place, how the nodes are wired."""
+import glob
 import os
 import sys
 import xml.etree.ElementTree as ET
@@ -6,11 +7,18 @@ import xml.etree.ElementTree as ET
 import pytest
 import roslaunch.config
 
-LAUNCH = os.path.join(os.path.dirname(__file__), '..', '..', 'launch', 'arm.launch')
-LAUNCH_DIR = os.path.dirname(LAUNCH)
+from robopuppet import interface
+
+LAUNCH_DIR = os.path.join(os.path.dirname(__file__), '..', '..', 'launch')
+TEST_DIR = os.path.join(os.path.dirname(__file__), '..', 'integration')
+LAUNCH = os.path.join(LAUNCH_DIR, 'arm.launch')
+LAUNCH_FILES = ('arm.launch', 'puppet.launch', 'main_sim.launch', 'baxter_sim.launch')
 # The seed's Table 5 defaults, but frame_rate: 30 Hz (pyqtgraph) where the 2020 Tk GUI used 8.
 TABLE_5 = {'arm_side': 'L', 'port_name': '/dev/ttyACM0', 'comm_rate': '10.0',
            'frame_rate': '30.0', 'debug_mode': 'true'}
+# An argument that an including file declares again, with a default of its own on purpose.
+OVERRIDES = {('main_sim.launch', 'run_side_L'): 'the simulated system runs the right arm only',
+             ('puppet.launch', 'gui'): 'arm.launch alone opens no GUI; puppet.launch one per arm'}
 
 
 def load(*args, launch=LAUNCH):
@@ -24,6 +32,33 @@ def load(*args, launch=LAUNCH):
     return {n.name: n for n in config.nodes}, {k: p.value for k, p in config.params.items()}
 
 
+def declared_defaults(launch_dir):
+    """Return {file: {arg: default}} and {file: [included file]} of the launch files in a folder."""
+    defaults, includes = {}, {}
+    for path in glob.glob(os.path.join(launch_dir, '*.launch')):
+        root, name = ET.parse(path).getroot(), os.path.basename(path)
+        defaults[name] = {a.get('name'): a.get('default') for a in root.findall('arg')
+                          if a.get('default') is not None}
+        includes[name] = [os.path.basename(i.get('file')) for i in root.iter('include')]
+    return defaults, includes
+
+
+def below(name, includes):
+    """Yield the files that a file includes, directly or not."""
+    for child in includes.get(name, []):
+        yield child
+        yield from below(child, includes)
+
+
+def defaults_declared_twice(launch_dir, overrides=()):
+    """Return (file, arg, included file) for each default that a file declares again although a
+    file it includes (directly or not) declares it already, but the given overrides."""
+    defaults, includes = declared_defaults(launch_dir)
+    return sorted({(name, arg, child) for name in defaults for child in below(name, includes)
+                   for arg in defaults[name].keys() & defaults.get(child, {}).keys()
+                   if (name, arg) not in overrides})
+
+
 def test_arguments_of_table_5_plus_sim_puppet_and_gui_all_documented():
     args = {a.get('name'): a for a in ET.parse(LAUNCH).getroot().iter('arg')}
     for name, default in dict(TABLE_5, sim_puppet='false', gui='false').items():
@@ -31,11 +66,51 @@ def test_arguments_of_table_5_plus_sim_puppet_and_gui_all_documented():
     assert all(a.get('doc') for a in args.values())
 
 
+def test_each_default_is_declared_in_one_launch_file():
+    assert defaults_declared_twice(LAUNCH_DIR, OVERRIDES) == []
+
+
+def test_each_deliberate_override_differs_from_the_default_it_overrides():
+    defaults, includes = declared_defaults(LAUNCH_DIR)
+    for name, arg in OVERRIDES:
+        overridden = {defaults[c][arg] for c in below(name, includes) if arg in defaults[c]}
+        assert overridden and defaults[name][arg] not in overridden, (name, arg)
+
+
+def test_the_check_finds_a_default_declared_again_two_includes_down(tmp_path):
+    (tmp_path / 'top.launch').write_text(
+        '<launch><arg name="rate" default="10.0"/><include file="mid.launch"/></launch>')
+    (tmp_path / 'mid.launch').write_text('<launch><include file="arm.launch"/></launch>')
+    (tmp_path / 'arm.launch').write_text('<launch><arg name="rate" default="10.0"/></launch>')
+    assert defaults_declared_twice(str(tmp_path)) == [('top.launch', 'rate', 'arm.launch')]
+
+
+def test_the_comm_rate_default_is_the_firmwares_rate_of_the_interface_table():
+    _, params = load('sim_puppet:=true')
+    for name in ('/serial_L/comm_rate', '/puppet_sim_L/state_rate', '/arm_L/comm_rate'):
+        assert float(params[name]) == interface.DEFAULT_COMM_RATE_HZ, name
+
+
+@pytest.mark.parametrize('launch, args, sides', [
+    ('main_sim.launch', ['comm_rate:=5', 'rviz:=false', 'gui:=false'], 'R'),
+    ('main_sim.launch', ['comm_rate:=5', 'run_side_L:=true', 'rviz:=false', 'gui:=false'], 'LR'),
+    ('puppet.launch', ['comm_rate:=5', 'sim_puppet:=true', 'gui:=false'], 'LR'),
+    ('arm.launch', ['comm_rate:=5', 'arm_side:=R', 'sim_puppet:=true'], 'R'),
+])
+def test_comm_rate_reaches_the_serial_node_the_simulator_and_the_arm_controller(launch, args,
+                                                                                sides):
+    nodes, params = load(*args, launch=os.path.join(LAUNCH_DIR, launch))
+    for side in sides:
+        for name in ('/serial_%s/comm_rate', '/puppet_sim_%s/state_rate', '/arm_%s/comm_rate'):
+            assert params[name % side] == 5, name % side
+    assert {n for n in nodes if n.startswith('arm_')} == {'arm_' + s for s in sides}
+
+
 @pytest.mark.parametrize('side', ['L', 'R'])
 def test_sim_puppet_points_serial_at_the_simulator(side):
     nodes, params = load('arm_side:=' + side, 'sim_puppet:=true', 'comm_rate:=50.0')
     assert {'config_' + side, 'serial_' + side, 'puppet_sim_' + side} <= set(nodes)
-    link = '/tmp/robopuppet_arm_' + side
+    link = interface.DEFAULT_SIM_LINK % side
     assert params['/serial_%s/port_name' % side] == link
     assert params['/puppet_sim_%s/port_link' % side] == link
     assert params['/puppet_sim_%s/state_rate' % side] == 50.0
@@ -60,8 +135,7 @@ def test_arm_controller_always_and_gui_on_request():
     assert params['/arm_R/arm_side'] == 'R'
 
 
-@pytest.mark.parametrize('name', ['arm.launch', 'puppet.launch', 'main_sim.launch',
-                                  'baxter_sim.launch'])
+@pytest.mark.parametrize('name', LAUNCH_FILES)
 def test_every_argument_is_documented(name):
     args = ET.parse(os.path.join(LAUNCH_DIR, name)).getroot().findall('arg')
     undocumented = [a.get('name') for a in args if not a.get('doc')]
@@ -76,7 +150,32 @@ def test_main_sim_runs_the_right_arm_on_simulated_hardware_by_default():
     assert params['/serial_R/port_name'] == params['/puppet_sim_R/port_link']
 
 
+def test_main_sim_passes_its_arguments_on_as_run_sh_gives_them():
+    nodes, params = load('rviz:=false', 'gui:=false', 'sim_link_prefix:=/run/user/7/rp',
+                         'run_side_L:=true', 'frame_rate:=12',
+                         launch=os.path.join(LAUNCH_DIR, 'main_sim.launch'))
+    assert 'rviz' not in nodes and not any(n.startswith('gui_') for n in nodes)
+    for side in 'LR':
+        assert params['/puppet_sim_%s/port_link' % side] == '/run/user/7/rp_arm_' + side
+    nodes, params = load('frame_rate:=12', launch=os.path.join(LAUNCH_DIR, 'main_sim.launch'))
+    assert {'rviz', 'gui_R'} <= set(nodes) and params['/gui_R/frame_rate'] == 12
+    assert params['/gui_R/sim_puppet'] is True
+
+
 def test_puppet_launch_gives_each_side_its_own_port():
     nodes, params = load('gui:=false', launch=os.path.join(LAUNCH_DIR, 'puppet.launch'))
     assert {'serial_L', 'serial_R', 'arm_L', 'arm_R'} <= set(nodes)
+    assert 'puppet_sim_L' not in nodes and 'gui_L' not in nodes
     assert params['/serial_L/port_name'] != params['/serial_R/port_name']
+    nodes, params = load('run_side_L:=false', 'port_R:=/dev/ttyACM0',
+                         launch=os.path.join(LAUNCH_DIR, 'puppet.launch'))
+    assert {'serial_R', 'arm_R', 'gui_R'} <= set(nodes) and 'serial_L' not in nodes
+    assert params['/serial_R/port_name'] == '/dev/ttyACM0'
+
+
+@pytest.mark.parametrize('path', sorted(
+    p for p in glob.glob(os.path.join(TEST_DIR, '*.test'))
+    if any(n in open(p).read() for n in LAUNCH_FILES)))
+def test_every_rostest_file_that_includes_a_launch_file_still_loads(path):
+    nodes, _ = load(launch=path)
+    assert any(n.startswith(('serial_', 'baxter_sim')) for n in nodes)

@@ -4,15 +4,16 @@ import math
 import pytest
 
 from robopuppet import baxter_description, interface
-from robopuppet.arm import joint_motion, teleop
-from robopuppet.arm.teleop import CALIBRATING, FAULT, FOLLOWING, NO_ROBOT, READY
+from robopuppet.arm import joint_motion, teleop, timing
+from robopuppet.interface import (BAXTER_SIDES, BUTTON_HOLD, BUTTON_LEFT, BUTTON_RIGHT,
+                                  CALIBRATING, FAULT, FOLLOWING, HOLD, LIMP, NO_ROBOT, READY)
 
-WORKING = ['Working'] * 7
-ONE_UNCALIBRATED = ['Working', 'Working', 'Uncalibrated', 'Working', 'Working', 'Working',
-                    'Working']
-LIMITS = {side: baxter_description.arm_limits(side) for side in teleop.SIDES}
+WORKING = [interface.WORKING] * 7
+ONE_UNCALIBRATED = WORKING[:2] + [interface.UNCALIBRATED] + WORKING[3:]
+LIMITS = {side: baxter_description.arm_limits(side) for side in BAXTER_SIDES}
 NEUTRAL = {side: [baxter_description.NEUTRAL_POSE[s]
-                  for s in baxter_description.ARM_JOINT_SUFFIXES] for side in teleop.SIDES}
+                  for s in baxter_description.ARM_JOINT_SUFFIXES] for side in BAXTER_SIDES}
+STATE_TIMEOUT_S = timing.DEFAULT.timeout_s  # Teleop's default: the 2020 firmware's 10 Hz
 HAND = [0.1, -0.5, 0.2, 0.8, -0.1, 1.2, 0.3]  # within Baxter's limits, near neutral
 
 
@@ -54,7 +55,7 @@ def enter(state):
     rig.statuses = ONE_UNCALIBRATED if state == CALIBRATING else WORKING
     rig.step()
     if state == FOLLOWING:
-        rig.press(3)
+        rig.press(BUTTON_RIGHT)
     if state == FAULT:
         rig.step(1.0, feed=False)
     assert rig.tp.state == state
@@ -74,13 +75,13 @@ def apply(rig, name):
     elif name == 'silent':
         return rig.step(1.0, feed=False)
     elif name == 'press_follow':
-        return rig.press(3)
+        return rig.press(BUTTON_RIGHT)
     elif name == 'press_hold':
-        return rig.press(1)
+        return rig.press(BUTTON_HOLD)
     return rig.step()
 
 
-# Written out by hand from DESIGN section 6 and the issue, independently of teleop.TRANSITIONS.
+# Written out by hand from README.md's "Operating the puppet", independently of teleop.TRANSITIONS.
 EXPECTED = {
     NO_ROBOT: dict(robot_lost=NO_ROBOT, robot_ok=READY, uncalibrated=NO_ROBOT,
                    calibrated=NO_ROBOT, silent=NO_ROBOT, press_follow=NO_ROBOT,
@@ -119,40 +120,40 @@ def test_hold_only_when_calibrated_and_with_robot_pose_as_setpoints():
     rig = enter(READY)
     pose = {'left': [0.0] * 7, 'right': [0.3, -0.4, 0.5, 1.0, -0.2, 0.9, 0.1]}
     rig.robot(pose=pose)
-    actions = rig.press(1).actions
+    actions = rig.press(BUTTON_HOLD).actions
     # Setpoints first: the firmware holds whatever setpoints it has when hold arrives.
-    assert actions == [teleop.SetSetpoints(pose['right']), teleop.SetOpmode('hold')]
-    assert rig.press(1).actions == [teleop.SetOpmode('limp')]
+    assert actions == [teleop.SetSetpoints(pose['right']), teleop.SetOpmode(HOLD)]
+    assert rig.press(BUTTON_HOLD).actions == [teleop.SetOpmode(LIMP)]
     calibrating = enter(CALIBRATING)
-    assert calibrating.press(1).actions == []
-    assert calibrating.tp.opmode == 'limp'
+    assert calibrating.press(BUTTON_HOLD).actions == []
+    assert calibrating.tp.opmode == LIMP
 
 
 def test_left_puppet_holds_to_left_arm():
     rig = Rig('L')
     rig.robot(pose={'left': [0.5] * 7, 'right': [-0.5] * 7})
     rig.step()
-    assert rig.press(1).actions[0] == teleop.SetSetpoints([0.5] * 7)
+    assert rig.press(BUTTON_HOLD).actions[0] == teleop.SetSetpoints([0.5] * 7)
 
 
 def test_button_acts_once_per_press_however_long_it_is_held():
     rig = enter(READY)
     for _ in range(50):  # the serial node reports the held button with every state set
-        rig.tp.on_button(rig.t, 3)
+        rig.tp.on_button(rig.t, BUTTON_RIGHT)
         rig.step()
     assert rig.tp.state == FOLLOWING
     rig.tp.on_button(rig.t, 0)
     rig.step()
     assert rig.tp.state == FOLLOWING
-    rig.press(3)
+    rig.press(BUTTON_RIGHT)
     assert rig.tp.state == READY
 
 
 def test_going_from_one_button_to_another_is_a_press():
     rig = enter(READY)
-    rig.tp.on_button(rig.t, 3)
+    rig.tp.on_button(rig.t, BUTTON_RIGHT)
     rig.step()
-    rig.tp.on_button(rig.t, 2)
+    rig.tp.on_button(rig.t, BUTTON_LEFT)
     rig.step()
     assert rig.tp.following == {'left': True, 'right': True}
     assert 'left and right arms' in rig.tp.detail
@@ -170,8 +171,8 @@ def run_until_tracking(rig, side, steps=2000):
 def test_own_side_copies_and_other_side_mirrors():
     rig = enter(READY)
     rig.angles = list(HAND)
-    rig.press(3)
-    rig.press(2)
+    rig.press(BUTTON_RIGHT)
+    rig.press(BUTTON_LEFT)
     right = run_until_tracking(rig, 'right')
     left = run_until_tracking(rig, 'left')
     assert right == pytest.approx(HAND, abs=1e-9)
@@ -182,7 +183,7 @@ def test_own_side_copies_and_other_side_mirrors():
 def test_commands_are_clamped_to_baxter_limits():
     rig = enter(READY)
     rig.angles = [3.0, 3.0, -3.2, -1.0, 3.2, -2.0, 3.1]
-    rig.press(3)
+    rig.press(BUTTON_RIGHT)
     for _ in range(3000):
         command = rig.step().commands['right']
         for angle, limit in zip(command, LIMITS['right']):
@@ -196,7 +197,7 @@ def test_approach_is_slow_then_tracking_follows_at_joint_speed():
     start = NEUTRAL['right']
     rig.angles = [s + 1.0 for s in start]  # 1 rad away on every joint
     rig.angles[3] = 1.5
-    previous = rig.press(3).commands['right']
+    previous = rig.press(BUTTON_RIGHT).commands['right']
     assert max(abs(p - s) for p, s in zip(previous, start)) <= 0.5 * 0.01 + 1e-12, \
         'following starts where the robot is'
     steps = 1
@@ -217,7 +218,7 @@ def test_approach_is_slow_then_tracking_follows_at_joint_speed():
 def test_non_finite_angles_are_ignored():
     rig = enter(READY)
     rig.angles = list(HAND)
-    rig.press(3)
+    rig.press(BUTTON_RIGHT)
     run_until_tracking(rig, 'right')
     bad = list(HAND)
     bad[1], bad[4] = float('nan'), float('inf')
@@ -230,14 +231,14 @@ def test_non_finite_angles_are_ignored():
 
 def test_watchdog_stops_commands_when_joint_states_stop():
     rig = enter(READY)
-    rig.press(3)
+    rig.press(BUTTON_RIGHT)
     assert rig.step().commands
     quiet_since = rig.t
     while True:
         step = rig.step(0.01, feed=False)
         if rig.tp.state == FAULT:
             break
-    assert rig.t - quiet_since == pytest.approx(teleop.STATE_TIMEOUT_S, abs=0.011)
+    assert rig.t - quiet_since == pytest.approx(STATE_TIMEOUT_S, abs=0.011)
     assert 'joint states' in rig.tp.detail
     assert rig.tp.following == {'left': False, 'right': False}
     # Baxter is told to stay where it is measured, once, then nothing more.
@@ -247,38 +248,38 @@ def test_watchdog_stops_commands_when_joint_states_stop():
 
 def test_watchdog_catches_a_missing_heartbeat_and_needs_a_new_press():
     rig = enter(READY)
-    rig.press(3)
+    rig.press(BUTTON_RIGHT)
     last_beat = rig.t
     while rig.tp.state != FAULT:
         rig.t += 0.05
         rig.feed(heartbeat=False)
         rig.tp.step(rig.t)
-    assert rig.t - last_beat == pytest.approx(2.5, abs=0.06)
+    assert rig.t - last_beat == pytest.approx(interface.HEARTBEAT_TIMEOUT_S, abs=0.06)
     assert 'heartbeat' in rig.tp.detail
     for _ in range(20):
         assert not rig.step(0.05).commands  # data is fresh again, yet nothing follows
     assert rig.tp.state == READY
-    rig.press(3)
+    rig.press(BUTTON_RIGHT)
     assert rig.step().commands
 
 
 def test_fault_lets_a_holding_puppet_go_limp():
     rig = enter(READY)
-    rig.press(1)
-    assert rig.tp.opmode == 'hold'
-    assert rig.step(1.0, feed=False).actions == [teleop.SetOpmode('limp')]
+    rig.press(BUTTON_HOLD)
+    assert rig.tp.opmode == HOLD
+    assert rig.step(1.0, feed=False).actions == [teleop.SetOpmode(LIMP)]
 
 
 def test_end_piece_closes_and_opens_the_following_grippers_only():
     rig = enter(READY)
-    rig.press(3)
+    rig.press(BUTTON_RIGHT)
     rig.tp.on_end_piece(rig.t, 0.05)
     assert rig.step().actions == [teleop.Grip('right', True)]
     rig.tp.on_end_piece(rig.t, 0.5)  # between the thresholds: no change
     assert rig.step().actions == []
     rig.tp.on_end_piece(rig.t, 0.95)
     assert rig.step().actions == [teleop.Grip('right', False)]
-    rig.press(3)
+    rig.press(BUTTON_RIGHT)
     rig.tp.on_end_piece(rig.t, 0.0)
     assert rig.step().actions == []
 
@@ -291,13 +292,13 @@ def test_an_arm_driven_by_the_other_puppet_is_not_taken():
     rig = enter(READY)
     rig.tp.on_other_puppet(rig.t, False, True)
     rig.step()
-    rig.press(3)
+    rig.press(BUTTON_RIGHT)
     assert rig.tp.state == READY and not rig.tp.following['right']
     assert 'other puppet' in rig.tp.detail
-    rig.press(2)
+    rig.press(BUTTON_LEFT)
     assert rig.tp.following == {'left': True, 'right': False}
     rig.tp.on_other_puppet(rig.t, False, False)
-    rig.press(3)
+    rig.press(BUTTON_RIGHT)
     assert rig.tp.following == {'left': True, 'right': True}
 
 
@@ -305,7 +306,7 @@ def test_fresh_data_right_after_a_stream_command_is_carried_whole():
     """A move that fits one command period is not sliced by an unlucky stream command."""
     rig = enter(READY)
     rig.angles = list(HAND)
-    rig.press(3)
+    rig.press(BUTTON_RIGHT)
     run_until_tracking(rig, 'right')
     rig.step(0.0095, feed=False)  # the steady-stream command, just before new data
     rig.angles[6] += 0.03          # w2 may move 4 rad/s x 10 ms = 0.04 rad per command
@@ -318,7 +319,7 @@ def test_fresh_data_right_after_a_stream_command_is_carried_whole():
 
 def test_both_puppets_claiming_an_arm_at_once_both_let_go():
     rig = enter(READY)
-    rig.press(3)
+    rig.press(BUTTON_RIGHT)
     assert rig.step().commands
     rig.tp.on_other_puppet(rig.t, False, True)  # the other pressed 3 at about the same time
     assert rig.step().commands == {'right': pytest.approx(NEUTRAL['right'])}  # stay, once
@@ -329,11 +330,11 @@ def test_both_puppets_claiming_an_arm_at_once_both_let_go():
 def test_a_claim_that_is_not_renewed_expires():
     rig = enter(READY)
     rig.tp.on_other_puppet(rig.t, False, True)
-    rig.press(3)
+    rig.press(BUTTON_RIGHT)
     assert not rig.tp.following['right']
     for _ in range(int(teleop.CLAIM_EXPIRY_S / 0.01) + 1):  # the other arm node died
         rig.step()
-    rig.press(3)
+    rig.press(BUTTON_RIGHT)
     assert rig.tp.following['right']
 
 
@@ -356,17 +357,17 @@ def test_watchdog_works_before_the_first_heartbeat():
     tp2.on_robot_pose(0.0, NEUTRAL)
     tp2.on_joint_states(0.0, WORKING, NEUTRAL['right'])
     tp2.step(0.0)
-    tp2.on_button(0.0, 3)
+    tp2.on_button(0.0, BUTTON_RIGHT)
     assert tp2.step(0.01).commands
-    assert tp2.step(0.01 + teleop.STATE_TIMEOUT_S + 0.01).commands == {
+    assert tp2.step(0.01 + STATE_TIMEOUT_S + 0.01).commands == {
         'right': pytest.approx(NEUTRAL['right'])}  # stay where Baxter is
     assert tp2.state == FAULT
-    assert tp2.step(0.03 + teleop.STATE_TIMEOUT_S).commands == {}
+    assert tp2.step(0.03 + STATE_TIMEOUT_S).commands == {}
 
 
 def test_speed_stays_bounded_however_commands_are_spaced():
     rig = enter(READY)
-    rig.press(3)
+    rig.press(BUTTON_RIGHT)
     run_until_tracking(rig, 'right')
     rig.angles = [lim.upper - 0.01 for lim in LIMITS['right']]  # far away on every joint
     start_t, start = rig.t, rig.step(0.001).commands['right']
@@ -380,7 +381,7 @@ def test_speed_stays_bounded_however_commands_are_spaced():
 def test_nan_from_baxter_is_ignored():
     rig = enter(READY)
     rig.robot(pose={'left': NEUTRAL['left'], 'right': [math.nan] + NEUTRAL['right'][1:]})
-    rig.press(3)
+    rig.press(BUTTON_RIGHT)
     command = rig.step().commands['right']
     assert all(math.isfinite(a) for a in command)
     assert command == pytest.approx(NEUTRAL['right'], abs=0.01)
@@ -389,11 +390,11 @@ def test_nan_from_baxter_is_ignored():
 def test_entering_hold_sends_the_setpoints_once_before_the_opmode():
     rig = enter(READY)
     actions = []
-    rig.tp.on_button(rig.t, 1)
+    rig.tp.on_button(rig.t, BUTTON_HOLD)
     for _ in range(100):
         actions += rig.step().actions
         rig.tp.on_button(rig.t, 0)
-    assert actions == [teleop.SetSetpoints(NEUTRAL['right']), teleop.SetOpmode('hold')]
+    assert actions == [teleop.SetSetpoints(NEUTRAL['right']), teleop.SetOpmode(HOLD)]
 
 
 def test_a_joint_never_seen_valid_keeps_baxter_from_following():
@@ -405,12 +406,12 @@ def test_a_joint_never_seen_valid_keeps_baxter_from_following():
     rig.step()
     assert rig.tp.state == CALIBRATING
     assert rig.tp.detail == 'joint 3 with no valid angle yet'
-    assert not rig.press(3).commands and rig.tp.state == CALIBRATING
+    assert not rig.press(BUTTON_RIGHT).commands and rig.tp.state == CALIBRATING
     rig.angles = list(HAND)
     rig.step()
     assert rig.tp.state == READY
     rig.angles = first  # NaN again later: e1 keeps its last valid angle
-    rig.press(3)
+    rig.press(BUTTON_RIGHT)
     command = run_until_tracking(rig, 'right')
     assert command[3] == pytest.approx(HAND[3], abs=0.03)
 
@@ -421,7 +422,7 @@ def test_approach_speed_is_capped_by_the_velocity_limits():
     rig.step()
     rig.angles = [lim.upper - 0.05 for lim in LIMITS['right']]  # far from neutral
     previous = NEUTRAL['right']
-    rig.press(3)
+    rig.press(BUTTON_RIGHT)
     for _ in range(20):
         command = rig.step().commands['right']
         for c, p, lim in zip(command, previous, LIMITS['right']):
@@ -434,7 +435,7 @@ def test_a_robot_pose_out_of_its_limits_is_not_believed():
     rig.robot(pose={'left': NEUTRAL['left'], 'right': [1e39] * 7})
     rig.robot(pose={'left': NEUTRAL['left'], 'right': [0.0, 0.0, 0.0, 4.0, 0.0, 0.0, 0.0]})
     assert rig.tp.robot.ignored_poses == 2
-    actions = rig.press(1).actions
+    actions = rig.press(BUTTON_HOLD).actions
     assert actions[0] == teleop.SetSetpoints(NEUTRAL['right'])  # the last believable pose
 
 
@@ -460,7 +461,7 @@ def test_a_failed_controller_faults_and_needs_a_new_press():
     for _ in range(10):
         assert not rig.step().commands  # puppet data is fresh, yet nothing follows
     assert rig.tp.state == READY
-    assert rig.press(3).commands
+    assert rig.press(BUTTON_RIGHT).commands
 
 
 def test_a_stop_commands_where_the_moving_arm_is_now_not_where_it_was_measured():

@@ -1,1 +1,1 @@
-"""arm_X's subsystem: the teleoperation state machine, joint motion limits and the node driving Baxter."""
+"""arm_X's subsystem: the teleop state machine, joint motion limits, the node driving Baxter."""

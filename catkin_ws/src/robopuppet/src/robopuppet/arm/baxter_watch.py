@@ -1,4 +1,4 @@
-"""What Baxter's /robot/joint_states tell arm_X: a believable pose per arm, and where it is now (pure).
+"""What Baxter's /robot/joint_states tell arm_X: a believable pose per arm and where it is (pure).
 
 Time is an argument. A pose that is not finite, or is further than ROBOT_POSE_MARGIN_RAD outside
 the URDF's limits, is not Baxter's (garbage on the topic) and is ignored, so such a value never

@@ -6,6 +6,8 @@ following (encoders not Working, or no valid angle yet).
 """
 import math
 
+from robopuppet.interface import UNCALIBRATED, WORKING
+
 
 class PuppetWatch:
     """Follow one puppet arm's joint states and heartbeats.
@@ -74,7 +76,7 @@ class PuppetWatch:
         """Return which joints keep Baxter from following and what to do, or '' when none."""
         waiting = {}
         for joint, status in enumerate(self.statuses):
-            if status != 'Working':
+            if status != WORKING:
                 waiting.setdefault(status, []).append(str(joint))
             elif self.angles[joint] is None:
                 waiting.setdefault('with no valid angle yet', []).append(str(joint))
@@ -83,4 +85,4 @@ class PuppetWatch:
         return '; '.join(
             'joint%s %s %s' % ('s' if len(joints) > 1 else '', ', '.join(joints), status)
             for status, joints in sorted(waiting.items())) + (
-            ': turn each through its index mark' if 'Uncalibrated' in waiting else '')
+            ': turn each through its index mark' if UNCALIBRATED in waiting else '')

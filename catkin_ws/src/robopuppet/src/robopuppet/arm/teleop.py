@@ -1,8 +1,10 @@
-"""Teleoperation state machine of one puppet arm (DESIGN section 6): pure, time as an argument.
+"""Teleoperation state machine of one puppet arm: pure, time as an argument.
 
 The arm node feeds it puppet data (joint states, heartbeats, buttons, the end-piece reading) and
 Baxter's state, calls step(t) at its command rate, and carries out what step returns: joint
-positions for each following Baxter arm and actions (opmode, puppet setpoints, grippers).
+positions for each following Baxter arm and actions (opmode, puppet setpoints, grippers). The
+states are robopuppet_msgs/TeleopState's (interface.TELEOP_STATES); README.md, "Operating the
+puppet", describes them as the operator sees them.
 
 Safety: Baxter follows nothing until all seven puppet encoders report Working and every joint
 has sent a valid angle; every command is clamped to Baxter's joint limits and moves at a bounded
@@ -18,19 +20,16 @@ claim one at once, both let it go.
 import collections
 import math
 
+from robopuppet.arm import timing
 from robopuppet.arm.baxter_watch import BaxterWatch
 from robopuppet.arm.joint_motion import SpeedBudget, clamp, mirror
 from robopuppet.arm.puppet_watch import PuppetWatch
-from robopuppet.interface import HEARTBEAT_TIMEOUT_S
+from robopuppet.interface import (BAXTER_SIDE, BAXTER_SIDES, BUTTON_HOLD, BUTTON_LEFT,
+                                  BUTTON_RIGHT, CALIBRATING, FAULT, FOLLOWING,
+                                  HEARTBEAT_TIMEOUT_S, HOLD, LIMP, NO_ROBOT, READY, check_side)
 
-NO_ROBOT, CALIBRATING, READY, FOLLOWING, FAULT = (
-    'no_robot', 'calibrating', 'ready', 'following', 'fault')
-LIMP, HOLD = 'limp', 'hold'
-SIDES = ('left', 'right')
-BUTTON_HOLD, BUTTON_LEFT, BUTTON_RIGHT = 1, 2, 3
+FOLLOW_BUTTON = dict(zip((BUTTON_LEFT, BUTTON_RIGHT), BAXTER_SIDES))  # button -> Baxter's arm
 GRIP_PRESSED_BELOW, GRIP_RELEASED_ABOVE = 0.3, 0.7  # end-piece reading, with hysteresis
-STATE_TIMEOUT_S = 0.4      # the puppet is silent after this long without joint states (4 sets at
-                           # 10 Hz): within the 0.5 s a stop must take, yet not tripped by a stall
 CLAIM_EXPIRY_S = 1.5       # the other puppet's claim on an arm lasts this long unless renewed
 
 # (state, event) -> next state. Events not listed for a state leave it unchanged.
@@ -76,7 +75,8 @@ class Teleop:
         puppet_side: 'L' or 'R'; Baxter's arm on this side copies the puppet, the other mirrors.
         limits: {'left': 7 limits, 'right': 7 limits}, each with lower, upper (rad) and
             velocity (rad/s), in puppet joint order (see baxter_description.arm_limits).
-        state_timeout_s: the puppet is silent when no joint states came for this long.
+        state_timeout_s: the puppet is silent when no joint states came for this long (the
+            default suits the 2020 firmware's 10 Hz; see robopuppet.arm.timing).
         heartbeat_timeout_s: ... or no heartbeat for this long (the firmware beats at 1 Hz).
         approach_speed_rad_s: joint speed while a following arm closes in on the puppet's pose
             (capped per joint by the joint's velocity limit).
@@ -85,12 +85,10 @@ class Teleop:
             motion, so one command may carry speed x command_period_s at once.
     """
 
-    def __init__(self, puppet_side, limits, state_timeout_s=STATE_TIMEOUT_S,
+    def __init__(self, puppet_side, limits, state_timeout_s=timing.DEFAULT.timeout_s,
                  heartbeat_timeout_s=HEARTBEAT_TIMEOUT_S, approach_speed_rad_s=0.5,
                  track_tolerance_rad=0.02, command_period_s=0.01):
-        if puppet_side not in ('L', 'R'):
-            raise ValueError("puppet side must be 'L' or 'R', got %r" % (puppet_side,))
-        self.own_side = 'left' if puppet_side == 'L' else 'right'
+        self.own_side = BAXTER_SIDE[check_side(puppet_side)]
         self.limits = limits
         self.puppet = PuppetWatch(state_timeout_s, heartbeat_timeout_s)
         self.robot = BaxterWatch(limits)
@@ -100,13 +98,13 @@ class Teleop:
         self.state = NO_ROBOT
         self.detail = 'waiting for Baxter'
         self.opmode = LIMP
-        self.following = {side: False for side in SIDES}
-        self.tracking = {side: False for side in SIDES}  # False while approaching
+        self.following = {side: False for side in BAXTER_SIDES}
+        self.tracking = {side: False for side in BAXTER_SIDES}  # False while approaching
         self.gripper_closed = False
         self._fault_t = None
         self._robot_ok = False
         self._motion = {}          # side -> SpeedBudget holding the last command
-        self._claim_t = {side: None for side in SIDES}  # when the other puppet last claimed
+        self._claim_t = {side: None for side in BAXTER_SIDES}  # the other puppet's last claim
         self._button = 0
         self._pressed = []         # button presses not yet acted on
         self._grip_reading = None
@@ -133,7 +131,7 @@ class Teleop:
 
     def on_other_puppet(self, t, follow_left, follow_right):
         """Take which Baxter arms the other puppet drives; this one will not take them too."""
-        for side, claimed in zip(SIDES, (follow_left, follow_right)):
+        for side, claimed in zip(BAXTER_SIDES, (follow_left, follow_right)):
             self._claim_t[side] = t if claimed else None
 
     def on_robot(self, t, enabled):
@@ -158,7 +156,7 @@ class Teleop:
                 self.detail = detail  # which joints are still missing
             return
         if new in STOP_FOLLOWING:
-            self.following = {side: False for side in SIDES}
+            self.following = {side: False for side in BAXTER_SIDES}
         if new == FAULT:
             self._fault_t = self._last_step_t
         self.state = new
@@ -192,9 +190,8 @@ class Teleop:
                 continue  # a press in any other state does nothing, not even later
             if button == BUTTON_HOLD:
                 self._toggle_hold(t, actions)
-            elif button in (BUTTON_LEFT, BUTTON_RIGHT):
-                side = 'left' if button == BUTTON_LEFT else 'right'
-                self._toggle_follow(side, t)
+            elif button in FOLLOW_BUTTON:
+                self._toggle_follow(FOLLOW_BUTTON[button], t)
         self._pressed = []
 
     def _toggle_hold(self, t, actions):
@@ -226,7 +223,7 @@ class Teleop:
 
     def _drop_contested_arms(self, t):
         """Let go of any arm the other puppet claims too: both stopping is safe, both is not."""
-        contested = [s for s in SIDES if self.following[s] and self._claimed(s, t)]
+        contested = [s for s in BAXTER_SIDES if self.following[s] and self._claimed(s, t)]
         for side in contested:
             self.following[side] = False
         if contested:
@@ -234,7 +231,7 @@ class Teleop:
                                       % ' and '.join(contested))
 
     def _after_follow_change(self, why):
-        followers = [s for s in SIDES if self.following[s]]
+        followers = [s for s in BAXTER_SIDES if self.following[s]]
         self._fire('follow_on' if followers else 'follow_off', '')
         self.detail = why + ('Baxter follows with its %s arm%s' % (
             ' and '.join(followers), 's' if len(followers) > 1 else '')
@@ -250,11 +247,12 @@ class Teleop:
             self.gripper_closed = False
         else:
             return
-        actions.extend(Grip(side, self.gripper_closed) for side in SIDES if self.following[side])
+        actions.extend(Grip(side, self.gripper_closed) for side in BAXTER_SIDES
+                       if self.following[side])
 
     def _commands_now(self, t):
         commands = {}
-        for side in SIDES:
+        for side in BAXTER_SIDES:
             if not self.following[side]:
                 continue
             angles = self.puppet.angles if side == self.own_side else mirror(self.puppet.angles)
@@ -278,7 +276,7 @@ class Teleop:
         if not self._robot_ok:
             return {}
         commands = {}
-        for side in SIDES:
+        for side in BAXTER_SIDES:
             if was_following[side] and not self.following[side] and side in self.robot.pose:
                 commands[side] = self.robot.now(side, t)
         return commands

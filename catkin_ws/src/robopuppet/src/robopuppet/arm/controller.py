@@ -1,0 +1,181 @@
+"""Everything arm_X decides, in one pure object: the node feeds it what its topics bring and
+carries out what it returns (time in s is an argument, no rospy, no messages).
+
+It holds the teleop state machine (robopuppet.arm.teleop), Baxter's upkeep (presence, enabling,
+gripper calibration: robopuppet.arm.baxter_upkeep), the puppet's encoder statuses, the pace of
+the command stream, the command loop's health and the teleop report (teleop_state and
+/diagnostics).
+"""
+import collections
+
+from robopuppet import baxter_description, settings
+from robopuppet.arm.baxter_upkeep import BaxterUpkeep
+from robopuppet.arm.baxter_watch import MAX_EXTRAPOLATION_S
+from robopuppet.arm.readings import arm_poses, joint_angles, non_finite_joints
+from robopuppet.arm.teleop import Grip, Teleop
+from robopuppet.interface import (BAXTER_SIDES, CALIBRATING, DIAG_TELEOP, DISCONNECTED, FAULT,
+                                  FOLLOWING, NO_ROBOT, READY, puppet_ns)
+
+STATE_PERIOD_S = 0.5  # the report (teleop_state, /diagnostics) goes out at least this often
+# The command loop has failed when it has not completed a step for this many command periods.
+STALL_PERIODS = 10
+# /diagnostics level per teleop state, as diagnostic_msgs/DiagnosticStatus names them.
+DIAG_LEVEL = {NO_ROBOT: 'WARN', CALIBRATING: 'OK', READY: 'OK', FOLLOWING: 'OK', FAULT: 'ERROR'}
+LEVELS = ('OK', 'WARN', 'ERROR')
+
+Enable = collections.namedtuple('Enable', '')
+Enable.__doc__ = 'Ask Baxter to enable (/robot/set_super_enable).'
+ArmCommand = collections.namedtuple('ArmCommand', 'side names angles')
+ArmCommand.__doc__ = "Command Baxter's arm on `side` to 7 joint positions (rad) of its joint names."
+Report = collections.namedtuple('Report', 'changed state follow_left follow_right opmode '
+                                          'heartbeat_age_s detail diag_name hardware_id level '
+                                          'message values')
+Report.__doc__ = """The teleop report: changed (it differs from the last one: log it), the
+TeleopState fields, and the DiagnosticStatus's name, hardware_id, level ('OK', 'WARN' or
+'ERROR'), message and values [(key, text)]."""
+
+
+class ArmController:
+    """Decide what arm_X sends Baxter and the puppet.
+
+    Args:
+        side: the puppet's side, 'L' or 'R'.
+        limits: {'left': 7 limits, 'right': 7 limits} (see baxter_description.arm_limits).
+        timing: the StateTimeout at the puppet's comm_rate (robopuppet.arm.timing).
+        heartbeat_timeout_s: the puppet is silent after this long without a heartbeat.
+        approach_speed_rad_s: joint speed while a following arm closes in on the puppet.
+        command_period_s: the command stream's period (s).
+        guard: the node's robopuppet.periodic.Guard (its errors go into the report).
+        t: the time (s) at the start.
+    """
+
+    def __init__(self, side, limits, timing, heartbeat_timeout_s, approach_speed_rad_s,
+                 command_period_s, guard, t):
+        self.teleop = Teleop(side, limits, state_timeout_s=timing.timeout_s,
+                             heartbeat_timeout_s=heartbeat_timeout_s,
+                             approach_speed_rad_s=approach_speed_rad_s,
+                             command_period_s=command_period_s)
+        self.baxter = BaxterUpkeep()
+        self.timing = timing
+        self.command_period_s = command_period_s
+        self.guard = guard
+        self.diag_name = 'arm_%s: %s' % (side, DIAG_TELEOP)
+        self.hardware_id = puppet_ns(side)
+        self.joint_names = {s: baxter_description.arm_joint_names(s) for s in BAXTER_SIDES}
+        self.refused_states = 0  # puppet joint_states without the seven joint names
+        self.last_step_t = t     # when a step was last carried out completely
+        self._statuses = [DISCONNECTED] * settings.NUM_JOINTS
+        self._command_t = None
+        self._reported = self._report_t = None
+
+    # ---- inputs --------------------------------------------------------------------------
+
+    def on_status(self, t, joint, status):
+        """Take a joint's encoder status (interface.ENC_STATUS)."""
+        self._statuses[joint] = status
+
+    def on_joint_states(self, t, names, positions):
+        """Take the puppet's joint states; return (taken, a warning to log or '').
+
+        A message without joint_0..joint_6 is refused (not taken) and counted.
+        """
+        try:
+            angles = joint_angles(names, positions)
+        except ValueError as error:
+            self.refused_states += 1
+            return False, 'puppet joint_states refused (%d so far): %s' % (
+                self.refused_states, error)
+        self.teleop.on_joint_states(t, list(self._statuses), angles)
+        bad = non_finite_joints(angles)
+        return True, ('puppet joint_states with non-finite %s: each such joint keeps its last '
+                      'valid angle' % ', '.join(bad)) if bad else ''
+
+    def on_robot_joints(self, t, names, positions, velocities, age_s):
+        """Take Baxter's joint states, received at t and measured age_s (s) earlier (an age
+        below 0 or beyond what a stop may extrapolate is not believed: taken as 0)."""
+        if not 0.0 <= age_s <= MAX_EXTRAPOLATION_S:
+            age_s = 0.0
+        self.baxter.on_robot_joints(t)
+        poses, speeds = arm_poses(names, positions, velocities, self.joint_names)
+        self.teleop.on_robot_pose(t - age_s, poses, speeds)
+
+    def on_gripper_state(self, t, side, gripper_id, calibrated):
+        """Take a gripper's state; return the actions it calls for ([] or a calibrate)."""
+        holding = self.teleop.following[side] and self.teleop.gripper_closed
+        calibrate = self.baxter.on_gripper_state(t, side, gripper_id, calibrated, holding)
+        return [calibrate] if calibrate else []
+
+    # ---- steps ---------------------------------------------------------------------------
+
+    def step_due(self, t):
+        """Return whether the steady command stream needs a step at t (none went out for
+        about a command period)."""
+        return self._command_t is None or t - self._command_t >= 0.9 * self.command_period_s
+
+    def step(self, t):
+        """Advance to t; return the actions to carry out in order, then call done(t).
+
+        The actions: Enable, an ArmCommand per commanded arm, teleop's SetOpmode and
+        SetSetpoints, a baxter_upkeep.GripperCommand per teleop Grip, and last a Report when
+        one is due.
+        """
+        ready = self.baxter.ready(t)
+        self.teleop.on_robot(t, ready)
+        actions = [Enable()] if self.baxter.enable_due(t) else []
+        result = self.teleop.step(t)
+        self._command_t = t
+        actions += [ArmCommand(side, self.joint_names[side], angles)
+                    for side, angles in sorted(result.commands.items())]
+        actions += [self.baxter.grip(a.side, a.close) if isinstance(a, Grip) else a
+                    for a in result.actions]
+        report = self._report(t)
+        return actions + [report] if report else actions
+
+    def done(self, t):
+        """Take that the step at t was carried out completely."""
+        self.last_step_t = t
+
+    def failed(self, t, error):
+        """Take that a step raised `error`: the controller no longer knows what it commanded,
+        a fault at the next step."""
+        self.teleop.on_controller_failed(t, '%s: %s' % (type(error).__name__, error))
+
+    def stall(self, t):
+        """Return why the command loop has failed at t ('' when it has not): no step carried out
+        for STALL_PERIODS command periods. A failure faults the teleop at the next step."""
+        stalled_s = t - self.last_step_t
+        if stalled_s <= STALL_PERIODS * self.command_period_s:
+            return ''
+        why = 'no step completed for %.2f s; last error: %s' % (
+            stalled_s, self.guard.last_error or 'none')
+        self.teleop.on_controller_failed(t, why)
+        return why
+
+    # ---- report --------------------------------------------------------------------------
+
+    def _report(self, t):
+        tp = self.teleop
+        follow_left, follow_right = (tp.following[side] for side in BAXTER_SIDES)
+        snapshot = (tp.state, follow_left, follow_right, tp.opmode, tp.detail)
+        changed = snapshot != self._reported
+        if not changed and t - self._report_t < STATE_PERIOD_S:
+            return None
+        self._reported, self._report_t = snapshot, t
+        level, message = DIAG_LEVEL[tp.state], '%s: %s' % (tp.state, tp.detail)
+        if not self.timing.meets_stop:
+            level = max(level, 'WARN', key=LEVELS.index)
+            message += '; ' + self.timing.describe()
+        values = [
+            ('state', tp.state), ('follow_left', follow_left), ('follow_right', follow_right),
+            ('opmode', tp.opmode),
+            ('heartbeat_age_s', '%.2f' % tp.heartbeat_age(t)),
+            ('comm_rate_hz', '%g' % self.timing.comm_rate_hz),
+            ('state_timeout_s', '%.2f' % self.timing.timeout_s),
+            ('stop_within_s', '%.2f' % self.timing.stop_s),
+            ('ignored_angles', tp.puppet.ignored_angles),
+            ('ignored_robot_poses', tp.robot.ignored_poses),
+            ('refused_joint_states', self.refused_states),
+            ('callback_errors', self.guard.errors), ('last_error', self.guard.last_error)]
+        return Report(changed, tp.state, follow_left, follow_right, tp.opmode,
+                      tp.heartbeat_age(t), tp.detail, self.diag_name, self.hardware_id, level,
+                      message, [(key, str(value)) for key, value in values])

@@ -1,0 +1,179 @@
+"""arm_X's decisions (robopuppet.arm.controller): steps, actions, report, the command loop's
+health; fed as the node feeds it, with time passed in."""
+import pytest
+
+from robopuppet import baxter_description, interface, settings
+from robopuppet.arm import baxter_upkeep, controller, teleop, timing
+from robopuppet.periodic import Guard
+
+LIMITS = {side: baxter_description.arm_limits(side) for side in interface.BAXTER_SIDES}
+PERIOD_S = 0.01
+POSE = {side: [baxter_description.NEUTRAL_POSE[s] for s in baxter_description.ARM_JOINT_SUFFIXES]
+        for side in interface.BAXTER_SIDES}
+
+
+class Rig:
+    """An ArmController of puppet R with a clock; Baxter and the puppet report as asked."""
+
+    def __init__(self, comm_rate_hz=10.0, side='R'):
+        self.guard = Guard('arm_' + side, lambda text: None)
+        self.core = controller.ArmController(
+            side, LIMITS, timing.state_timeout(comm_rate_hz), interface.HEARTBEAT_TIMEOUT_S,
+            0.5, PERIOD_S, self.guard, 0.0)
+        self.t = 0.0
+
+    def baxter(self, enabled=True):
+        self.core.baxter.on_robot_state(self.t, enabled, False, False)
+        names = sum((baxter_description.arm_joint_names(s) for s in interface.BAXTER_SIDES), [])
+        self.core.on_robot_joints(self.t, names, POSE['left'] + POSE['right'], [], 0.0)
+
+    def puppet(self, statuses=interface.WORKING):
+        for joint in settings.JOINTS:
+            self.core.on_status(self.t, joint, statuses)
+        self.core.teleop.on_heartbeat(self.t)
+        return self.core.on_joint_states(self.t, settings.JOINT_NAMES, POSE['right'])
+
+    def step(self, dt=PERIOD_S, puppet=True):
+        self.t += dt
+        self.baxter()
+        if puppet:
+            self.puppet()
+        out = self.core.step(self.t)
+        self.core.done(self.t)
+        return out
+
+    def press(self, button):
+        self.core.teleop.on_button(self.t, button)
+        out = self.step()
+        self.core.teleop.on_button(self.t, 0)
+        return out
+
+
+def report_in(actions):
+    """Return the Report among a step's actions (it comes last), or None."""
+    reports = [a for a in actions if isinstance(a, controller.Report)]
+    assert reports in ([], actions[-1:])
+    return reports[0] if reports else None
+
+
+def ready():
+    rig = Rig()
+    rig.step()
+    assert rig.core.teleop.state == interface.READY
+    return rig
+
+
+def test_the_diagnostics_status_is_found_by_the_puppets_namespace_and_what_it_is_about():
+    report = report_in(Rig(side='L').step())
+    assert report.hardware_id == interface.puppet_ns('L')
+    assert report.diag_name.endswith(interface.DIAG_TELEOP)
+    assert report.diag_name.startswith('arm_L')
+
+
+def test_the_report_goes_out_on_every_change_and_at_least_every_half_second():
+    rig = ready()
+    reports = [(rig.t, report_in(rig.step())) for _ in range(120)]
+    times = [t for t, report in reports if report]
+    assert len(times) == 2 and times[1] - times[0] == pytest.approx(0.5, abs=PERIOD_S + 1e-9)
+    assert not any(report.changed for _, report in reports if report)
+    changed = report_in(rig.press(interface.BUTTON_RIGHT))
+    assert changed.changed and changed.state == interface.FOLLOWING and changed.follow_right
+    assert dict(changed.values)['follow_right'] == 'True'
+
+
+@pytest.mark.parametrize('rate_hz, level, stop', [(10.0, 'OK', '0.50'), (2.0, 'WARN', '2.10')])
+def test_the_stop_time_at_the_comm_rate_is_in_the_diagnostics_and_a_late_one_warns(
+        rate_hz, level, stop):
+    rig = Rig(comm_rate_hz=rate_hz)
+    report = report_in(rig.step())
+    assert report.state == interface.READY
+    assert report.level == level
+    values = dict(report.values)
+    assert values['stop_within_s'] == stop and values['comm_rate_hz'] == '%g' % rate_hz
+    assert ('only after %s s' % stop in report.message) == (level == 'WARN')
+
+
+def test_a_fault_is_an_error_even_at_a_low_rate():
+    rig = Rig(comm_rate_hz=2.0)
+    rig.step()
+    report = report_in(rig.step(3.0, puppet=False))
+    assert report.state == interface.FAULT and report.level == 'ERROR'
+
+
+def test_baxter_is_asked_to_enable_once_a_second_until_it_is_ready():
+    rig = Rig()
+    enables = []
+    for _ in range(250):
+        rig.t += PERIOD_S
+        if rig.t > 2.0:
+            rig.baxter()
+        enables += [rig.t for a in rig.core.step(rig.t)
+                    if isinstance(a, controller.Enable)]
+    assert len(enables) == 2 and 1.0 <= enables[1] - enables[0] <= 1.0 + 2 * PERIOD_S
+    assert rig.core.teleop.state == interface.CALIBRATING
+
+
+def test_commands_name_baxters_joints_and_grips_carry_the_grippers_id():
+    rig = ready()
+    rig.core.on_gripper_state(rig.t, 'right', 65538, True)
+    commands = [a for a in rig.press(interface.BUTTON_RIGHT)
+                if isinstance(a, controller.ArmCommand)]
+    assert [(a.side, a.names) for a in commands] == [
+        ('right', baxter_description.arm_joint_names('right'))]
+    rig.core.teleop.on_end_piece(rig.t, 0.0)  # the end-piece button pressed
+    grips = [a for a in rig.step() if isinstance(a, baxter_upkeep.GripperCommand)]
+    assert [(g.side, g.id, g.command) for g in grips] == [('right', 65538, 'go')]
+
+
+def test_a_gripper_that_follows_the_puppet_closed_is_not_calibrated():
+    rig = ready()
+    rig.press(interface.BUTTON_RIGHT)
+    rig.core.teleop.on_end_piece(rig.t, 0.0)
+    rig.step()
+    assert rig.core.on_gripper_state(rig.t, 'right', 65538, False) == []
+    assert [a.side for a in rig.core.on_gripper_state(rig.t, 'left', 65539, False)] == ['left']
+
+
+def test_refused_and_non_finite_joint_states_are_counted_and_explained():
+    rig = ready()
+    taken, problem = rig.core.on_joint_states(rig.t, ['joint_0'], [0.0])
+    assert not taken and 'refused (1 so far)' in problem and 'joint_1' in problem
+    angles = list(POSE['right'])
+    angles[4] = float('nan')
+    taken, problem = rig.core.on_joint_states(rig.t, settings.JOINT_NAMES, angles)
+    assert taken and 'non-finite joint_4' in problem
+    assert dict(report_in(rig.step(0.5)).values)['refused_joint_states'] == '1'
+
+
+def test_a_command_loop_that_completes_no_step_is_a_fault_with_the_last_error():
+    rig = ready()
+    rig.press(interface.BUTTON_RIGHT)
+    rig.guard.call('command loop', lambda: 1 / 0)
+    assert rig.core.stall(rig.t + 10 * PERIOD_S) == ''
+    why = rig.core.stall(rig.t + 10 * PERIOD_S + 0.001)
+    assert 'no step completed' in why and 'ZeroDivisionError' in why
+    out = rig.step(0.011)
+    assert rig.core.teleop.state == interface.FAULT and 'ZeroDivisionError' in report_in(out).detail
+    assert [a.side for a in out if isinstance(a, controller.ArmCommand)] == ['right']
+    assert dict(report_in(out).values)['callback_errors'] == '1'
+
+
+def test_a_step_that_failed_to_go_out_faults_the_next_one():
+    rig = ready()
+    rig.press(interface.BUTTON_RIGHT)
+    rig.core.failed(rig.t, OverflowError('1e39 is no Float32'))
+    rig.step()
+    assert rig.core.teleop.state == interface.FAULT
+    assert 'OverflowError' in rig.core.teleop.detail
+
+
+def test_steps_for_the_steady_stream_are_due_about_once_a_command_period():
+    rig = ready()
+    assert not rig.core.step_due(rig.t + 0.8 * PERIOD_S)
+    assert rig.core.step_due(rig.t + 0.9 * PERIOD_S)
+
+
+def test_teleop_actions_pass_through_in_order():
+    rig = ready()
+    actions = [a for a in rig.press(interface.BUTTON_HOLD) if not isinstance(a, controller.Report)]
+    assert actions == [teleop.SetSetpoints(POSE['right']), teleop.SetOpmode(interface.HOLD)]
