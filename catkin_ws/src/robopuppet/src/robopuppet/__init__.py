@@ -13,12 +13,16 @@ Data flows from the puppet to Baxter:
 |               | periodic (guarded loops)                                    |                 |
 | config/       | config_X: ini store, settings keeper, atomic file, the node | tables          |
 | baxter_sim/   | baxter_sim: the kinematic Baxter stand-in and its node      | tables          |
-| protocol/     | serial_X: frames, link, state sets, device settings, node   | tables, config  |
-| arm/          | arm_X: teleop state machine, puppet/Baxter watches, motion  | tables,protocol |
+| protocol/     | serial_X: frames, link, state sets, serial core, settings   | tables          |
+| arm/          | arm_X: controller, teleop, puppet/Baxter watches, timing    | tables          |
 | puppet_sim/   | puppet_sim_X: the simulated 2020 firmware and its node      | tables,protocol |
 | gui/          | gui_X: the Qt window and its ROS client                     | tables, config, |
-|               |                                                             | protocol, arm,  |
 |               |                                                             | puppet_sim      |
+
+The subsystems meet only through ROS topics and services named in interface.py (settings reach
+serial_X as config_X's stored_settings, not as an import); puppet_sim/ shares protocol/'s codec
+because it speaks the same wire, and gui/ uses config/'s form checks and puppet_sim/'s rest
+pose for its virtual puppet.
 
 Within a folder the node adapter (`*_node.py`) is the only module that talks to ROS (besides
 gui.puppet_client, the GUI's ROS client); the others are pure (no rospy, no Qt outside
