@@ -208,14 +208,19 @@ class BaxterSimGarbageTest(unittest.TestCase):
                 self.assertTrue(0.0 <= msg.position <= 100.0, msg.position)
                 self.assertLessEqual(len(msg.command_sender), 4096)
 
-        # And it still obeys: a sane command is followed to its target.
-        self.enable()
+        # And it still obeys: a sane command is followed to its target. Garbage (enable,
+        # disable, speed ratio, timeout) may still be in flight after the state reads enabled,
+        # so the sane values are sent again with every command.
         targets = {'right_s0': -0.4, 'right_e1': 1.0}
-        for side in BAXTER_SIDES:
-            self.timeout_pub[side].publish(Float64(0.2))
-            self.ratio_pub[side].publish(Float64(1.0))
 
         def reached():
+            self.timeout_pub['right'].publish(Float64(0.2))
+            self.ratio_pub['right'].publish(Float64(1.0))
+            state = self.state.msg
+            if state.stopped:
+                self.reset_pub.publish(Empty())
+            elif not state.enabled:
+                self.enable_pub.publish(Bool(True))
             self.cmd_pub['right'].publish(JointCommand(mode=4, names=list(targets),
                                                        command=list(targets.values())))
             positions = dict(zip(self.joints.msg.name, self.joints.msg.position))
