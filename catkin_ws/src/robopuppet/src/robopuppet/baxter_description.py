@@ -204,7 +204,7 @@ class Description:
             if joint.type == 'prismatic':
                 motion = _transform(np.eye(3), joint.axis * q)
             else:
-                motion = _transform(_axis_angle_matrix(joint.axis, q), (0.0, 0.0, 0.0))
+                motion = _transform(axis_angle_matrix(joint.axis, q), (0.0, 0.0, 0.0))
             pose = pose @ motion
         return pose
 
@@ -214,7 +214,8 @@ class Description:
         return tuple(pose[:3, 3]), matrix_quaternion(pose[:3, :3])
 
 
-def _axis_angle_matrix(axis, angle):
+def axis_angle_matrix(axis, angle):
+    """Return the 3x3 rotation by angle (rad) about a unit axis (Rodrigues)."""
     x, y, z = axis
     c, s = math.cos(angle), math.sin(angle)
     k = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])

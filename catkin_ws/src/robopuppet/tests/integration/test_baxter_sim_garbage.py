@@ -26,6 +26,11 @@ BAD_FLOATS = [math.nan, math.inf, -math.inf, 1e39, -1e39, 1e308, -1e308, 5e-324,
 HUGE_NAMES = 100000
 
 
+# The joint-command refusals test_1 sends, by the words of their log lines.
+KINDS = (('left_s0', 'must be finite'), ('right_s0', 'must be finite'), ('right_s0', 'left arm'),
+         ('twice', 'left'))
+
+
 class Garbage:
     """Seeded garbage for each kind of message the stand-in subscribes."""
 
@@ -119,13 +124,19 @@ class BaxterSimGarbageTest(unittest.TestCase):
         # is within its throttle interval.
         self.enable()
         self.rosout.record()
-        for side, mode, names in [('left', JointCommand.VELOCITY_MODE, ['left_s0']),
-                                  ('right', JointCommand.TORQUE_MODE, ['right_s0']),
-                                  ('left', JointCommand.POSITION_MODE, ['right_s0']),
-                                  ('left', JointCommand.POSITION_MODE, ['left_s0'] * 2)]:
+        # Within 2 s of a velocity refusal: a torque refusal on the other arm and an unknown
+        # joint on the same arm each get their line.
+        # Each kind is sent after the line of the one before: a burst of all of them would
+        # overflow the stand-in's subscriber queue (10), which drops the oldest.
+        for (side, mode, names, value), words in zip([
+                ('left', JointCommand.VELOCITY_MODE, ['left_s0'], math.nan),
+                ('right', JointCommand.TORQUE_MODE, ['right_s0'], math.inf),
+                ('left', JointCommand.POSITION_MODE, ['right_s0'], 0.1),
+                ('left', JointCommand.POSITION_MODE, ['left_s0'] * 2, 0.1)], KINDS):
             for _ in range(5):   # repeats of one kind are logged once
-                self.cmd_pub[side].publish(JointCommand(mode=mode, names=names, command=[0.1]
+                self.cmd_pub[side].publish(JointCommand(mode=mode, names=names, command=[value]
                                                         * len(names)))
+            wait_for(lambda: warned(self.rosout, *words), 5.0, 'a warning with %s' % (words,))
         self.gripper_pub['right'].publish(EndEffectorCommand(
             id=GRIPPER_ID, command='go', args='{"position": ' + '[' * 4000, sender='t',
             sequence=1))
@@ -134,8 +145,7 @@ class BaxterSimGarbageTest(unittest.TestCase):
             self.cmd_pub[side].publish(JointCommand(mode=1, names=['%s_s0' % side], command=[]))
             self.gripper_pub[side].publish(EndEffectorCommand(
                 id=GRIPPER_ID, command='grip', args='', sender='t', sequence=2))
-        wanted = [('mode 2', 'left'), ('mode 3', 'right'), ('right_s0', 'left arm'),
-                  ('twice', 'left'), ('nested too deeply', 'right_gripper')]
+        wanted = list(KINDS) + [('nested too deeply', 'right_gripper')]
         last = [('1 names but 0 values', 'left arm'), ('1 names but 0 values', 'right arm'),
                 ("'grip' is not supported", 'left_gripper'),
                 ("'grip' is not supported", 'right_gripper')]

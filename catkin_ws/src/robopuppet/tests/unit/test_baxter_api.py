@@ -43,25 +43,28 @@ def test_bool_param_takes_only_booleans():
 
 def test_refusals_of_different_kinds_and_sides_are_each_logged():
     # Before: all joint-command refusals shared one throttle slot, so only the first was logged.
+    # Within 2 s of a velocity refusal: a torque command on the other arm and an unknown joint
+    # on the same arm are each logged.
     sim = make_api()
-    lines = [sim.joint_command(LEFT_COMMAND, 'left', VELOCITY, ['left_s0'], [0.1], 1.0, 100.0),
-             sim.joint_command(RIGHT_COMMAND, 'right', TORQUE, ['right_s0'], [0.1], 1.0, 100.5),
+    nan = float('nan')
+    lines = [sim.joint_command(LEFT_COMMAND, 'left', VELOCITY, ['left_s0'], [nan], 1.0, 100.0),
+             sim.joint_command(RIGHT_COMMAND, 'right', TORQUE, ['right_s0'], [nan], 1.0, 100.5),
              sim.joint_command(LEFT_COMMAND, 'left', POSITION, ['right_s0'], [0.1], 1.0, 101.0),
-             sim.joint_command(LEFT_COMMAND, 'left', TORQUE, ['left_s0'], [0.1], 1.0, 101.5)]
+             sim.joint_command(LEFT_COMMAND, 'left', 7, ['left_s0'], [0.1], 1.0, 101.5)]
     assert all(reply.change is None for reply in lines)
-    for reply, words in zip(lines, (('left', 'mode 2', 'velocity mode'),
-                                    ('right', 'mode 3', RIGHT_COMMAND),
+    for reply, words in zip(lines, (('left', 'left_s0', 'non-finite value'),
+                                    ('right', 'right_s0', RIGHT_COMMAND),
                                     ('left', 'right_s0', 'unknown joint'),
-                                    ('left', 'mode 3', 'torque mode'))):
+                                    ('left', 'mode 7', 'unknown mode'))):
         assert reply.warning and all(w in reply.warning for w in words), (reply, words)
 
 
 def test_repeats_of_one_refusal_are_throttled_and_counted():
     sim = make_api()
-    warnings = [sim.joint_command(LEFT_COMMAND, 'left', VELOCITY, ['left_s0'], [0.1], 1.0,
+    warnings = [sim.joint_command(LEFT_COMMAND, 'left', 9, ['left_s0'], [0.1], 1.0,
                                   100.0 + 0.01 * i).warning for i in range(150)]
     assert warnings[0] is not None and warnings[1:] == [None] * 149
-    later = sim.joint_command(LEFT_COMMAND, 'left', VELOCITY, ['left_s0'], [0.1], 1.0, 102.5)
+    later = sim.joint_command(LEFT_COMMAND, 'left', 9, ['left_s0'], [0.1], 1.0, 102.5)
     assert '149 more since the last line' in later.warning
     assert 'at most every 2 s' in later.warning
 

@@ -154,8 +154,8 @@ def test_names_in_any_order_and_subsets():
 
 
 @pytest.mark.parametrize('mode, names, values, reason', [
-    (2, ['left_s0'], [0.1], 'velocity mode'),
-    (3, ['left_s0'], [0.1], 'torque mode'),
+    (5, ['left_s0'], [0.1], 'unknown mode'),
+    (2, ['left_s0'], [float('inf')], 'non-finite value'),
     (-7, ['left_s0'], [0.1], 'unknown mode'),
     (1, ['left_s0', 'left_s1'], [0.1], 'length mismatch'),
     (1, [], [], 'empty'),

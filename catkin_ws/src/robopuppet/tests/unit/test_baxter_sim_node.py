@@ -5,7 +5,8 @@ import time
 
 import pytest
 import rospy
-from baxter_core_msgs.msg import AssemblyState
+from baxter_core_msgs.msg import AnalogIOState, AssemblyState, HeadState
+from roslib.message import get_message_class
 
 from robopuppet import baxter_description as bd
 from robopuppet.baxter_sim import baxter_api
@@ -17,8 +18,8 @@ from robopuppet.periodic import Guard, Loop
 class Recorder:
     """A publisher that keeps what it is given; its first `failures` publishes raise."""
 
-    def __init__(self, failures=0):
-        self.messages, self.failures = [], failures
+    def __init__(self, failures=0, data_class=None):
+        self.messages, self.failures, self.data_class = [], failures, data_class
 
     def publish(self, msg):
         if self.failures:
@@ -37,6 +38,8 @@ def fixture_node(monkeypatch):
     node._state_pub, node._joint_pub = Recorder(), Recorder()
     node._endpoint_pub = {side: Recorder() for side in ('left', 'right')}
     node._gripper_pub = {side: Recorder() for side in ('left', 'right')}
+    node._io_pub = {topic: Recorder(data_class=get_message_class(kind))
+                    for topic, kind in baxter_api.io_publications()}
     node.logs = []
     for level in ('logwarn', 'loginfo', 'logerr'):
         monkeypatch.setattr(rospy, level, lambda text, *args, level=level: node.logs.append(
@@ -93,3 +96,18 @@ def test_the_publishing_loop_survives_an_exception_and_logs_the_count(node):
     errors = [text for level, text in node.logs if level == 'logerr']
     assert len(errors) == 1                     # the second one within 5 s is counted, not logged
     assert 'OverflowError' in errors[0] and '[1 failures in all since start]' in errors[0]
+
+
+def test_a_cycle_publishes_every_io_and_head_state_with_its_type(node):
+    node._loop_once()
+    for topic, kind in baxter_api.io_publications():
+        messages = node._io_pub[topic].messages
+        assert len(messages) == 1 and messages[0]._type == kind, topic
+    cuff = node._io_pub['/robot/digital_io/left_lower_cuff/state'].messages[0]
+    assert (cuff.state, cuff.isInputOnly) == (0, True)
+    light = node._io_pub['/robot/digital_io/torso_right_outer_light/state'].messages[0]
+    assert light.isInputOnly is False
+    analog = node._io_pub['/robot/analog_io/left_hand_range/state'].messages[0]
+    assert isinstance(analog, AnalogIOState) and analog.timestamp == rospy.Time(12, 500000000)
+    head = node._io_pub['/robot/head/head_state'].messages[0]
+    assert isinstance(head, HeadState) and head.isPanEnabled and head.pan == 0.0

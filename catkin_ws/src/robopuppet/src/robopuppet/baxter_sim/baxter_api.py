@@ -10,6 +10,9 @@ Not thread-safe: the node calls it under one lock.
 import collections
 import math
 
+from robopuppet.baxter_description import BASE_FRAME
+from robopuppet.baxter_sim import baxter_io as bio
+from robopuppet.baxter_sim.baxter_ik import ArmIK
 from robopuppet.baxter_sim.baxter_refusals import CommandError, RefusalThrottle, brief
 from robopuppet.interface import BAXTER_SIDES
 
@@ -25,15 +28,66 @@ ESTOP_BUTTON_UNPRESSED, ESTOP_SOURCE_NONE, ESTOP_SOURCE_USER = 0, 0, 1
 STATE_EVERY_N_CYCLES = 5        # /robot/state at rate_hz / 5 (and on every change)
 WARN_INTERVAL_S = 2.0           # a refusal is logged at most this often per topic and reason
 
+# Rethink's names beyond interface.py's, and the stand-in's own input for a user's hand.
+DIGITAL_IO_COMMAND = '/robot/digital_io/command'
+HEAD_PAN_COMMAND = '/robot/head/command_head_pan'
+HEAD_NOD_COMMAND = '/robot/head/command_head_nod'
+HEAD_STATE = '/robot/head/head_state'
+SIM_DIGITAL_INPUT = '/baxter_sim/digital_input'   # press a cuff or button (DigitalOutputCommand)
+# The subscriptions beyond the arms', grippers' and enable state's, as data for the node:
+# (topic, message type, BaxterApi method, the message fields passed to it in order).
+IO_SUBSCRIPTIONS = (
+    (DIGITAL_IO_COMMAND, 'baxter_core_msgs/DigitalOutputCommand', 'digital_output',
+     ('name', 'value')),
+    (SIM_DIGITAL_INPUT, 'baxter_core_msgs/DigitalOutputCommand', 'digital_input',
+     ('name', 'value')),
+    (HEAD_PAN_COMMAND, 'baxter_core_msgs/HeadPanCommand', 'head_pan',
+     ('target', 'speed_ratio', 'enable_pan_request')),
+    (HEAD_NOD_COMMAND, 'std_msgs/Bool', 'head_nod', ('data',)),
+)
+
+
+def digital_io_state_topic(name):
+    """Return the state topic of a digital IO component."""
+    return '/robot/digital_io/%s/state' % name
+
+
+def navigator_state_topic(location):
+    """Return the state topic of a navigator ('left', 'right', 'torso_left', 'torso_right')."""
+    return '/robot/navigators/%s_navigator/state' % location
+
+
+def analog_io_state_topic(name):
+    """Return the state topic of an analog IO component."""
+    return '/robot/analog_io/%s/state' % name
+
+
+def ik_service(side):
+    """Return the name of a side's IK service (baxter_core_msgs/SolvePositionIK)."""
+    return '/ExternalTools/%s/PositionKinematicsNode/IKService' % side
+
+
+def io_publications():
+    """Return [(topic, message type)] of every IO and head state, published every cycle."""
+    return ([(digital_io_state_topic(n), 'baxter_core_msgs/DigitalIOState')
+             for n in bio.DIGITAL_INPUTS + bio.DIGITAL_OUTPUTS]
+            + [(navigator_state_topic(n), 'baxter_core_msgs/NavigatorState')
+               for n in bio.NAVIGATORS]
+            + [(analog_io_state_topic(n), 'baxter_core_msgs/AnalogIOState')
+               for n in bio.ANALOG_INPUTS]
+            + [(HEAD_STATE, 'baxter_core_msgs/HeadState')])
+
+
 Reply = collections.namedtuple('Reply', 'warning change')
 Reply.__doc__ = """What a command leads to: `warning` a refusal line to log (None: taken, or
 refused too recently to log again); `change` an enable-state change to log, after which
 /robot/state must be published (None: no change)."""
-Cycle = collections.namedtuple('Cycle', 'joints poses grippers state_due')
+Cycle = collections.namedtuple('Cycle', 'joints poses grippers state_due io')
 Cycle.__doc__ = """One publishing cycle: `joints` (names, positions rad or m, velocities rad/s or
 m/s, efforts), `poses` {side: ((x, y, z) m, (qx, qy, qz, qw)) of the gripper in base},
 `grippers` {side: EndEffectorState fields but the timestamp}, `state_due` (publish /robot/state
-too)."""
+too), `io` {topic: fields} of every io_publications() topic (AnalogIOState's timestamp is
+the node's)."""
 
 
 def positive_param(name, value):
@@ -106,6 +160,7 @@ class BaxterApi:
             model.set_command_timeout(side, command_timeout_s)
         self.warn_interval_s = warn_interval_s
         self._throttle = RefusalThrottle(warn_interval_s)
+        self.ik = {side: ArmIK(model.description, side) for side in BAXTER_SIDES}
         self._cycles = 0
 
     # -- commands --
@@ -131,6 +186,49 @@ class BaxterApi:
                 % (brief(command), hardware_id, GRIPPER_ID), 'wrong id'), wall_s), None)
         return self._apply(topic, wall_s, self.model.gripper_command, side, command, args,
                            sender, sequence)
+
+    def digital_output(self, topic, name, value, wall_s):
+        """A DigitalOutputCommand: switch an output (a navigator light)."""
+        return self._apply(topic, wall_s, self.model.io.command, name, value)
+
+    def digital_input(self, topic, name, value, wall_s):
+        """The stand-in's simulated hand: press (True) or release an input (cuff, button)."""
+        return self._apply(topic, wall_s, self.model.io.press, name, value)
+
+    def head_pan(self, topic, target_rad, speed_ratio, enable_pan_request, wall_s):
+        """A HeadPanCommand (refused while disabled)."""
+        return self._apply(topic, wall_s, self.model.head_pan, target_rad, speed_ratio,
+                           enable_pan_request)
+
+    def head_nod(self, topic, nod, wall_s):
+        """A command_head_nod (True: nod once)."""
+        return self._apply(topic, wall_s, self.model.head.command_nod, nod)
+
+    def solve_ik(self, side, poses, seeds, seed_mode, current):
+        """Solve a SolvePositionIK request; touches no state, so it may run outside the lock.
+
+        Args:
+            poses: [(frame id, (x, y, z) m, (qx, qy, qz, qw))], the tool point in base.
+            seeds: [{joint name: rad}], the user seed of each pose (missing: none).
+            seed_mode: SolvePositionIK's seed_mode; current: {joint name: rad} now.
+        Returns:
+            ([baxter_ik.Solution] one per pose, [log text of each pose that was refused]).
+        """
+        answers, problems = [], []
+        for i, (frame, xyz, quaternion) in enumerate(poses):
+            try:
+                if frame not in ('', BASE_FRAME):
+                    raise ValueError('frame %s is not %s' % (brief(frame), BASE_FRAME))
+                answers.append(self.ik[side].solve_seeded(
+                    xyz, quaternion, seeds[i] if i < len(seeds) else {}, current, seed_mode))
+            except ValueError as error:
+                problems.append('%s arm IK: pose %d refused: %s' % (side, i, error))
+                answers.append(self.ik[side].invalid())
+        return answers, problems
+
+    def ik_refused(self, topic, text, wall_s):
+        """Return the (throttled) log line of a pose the IK service could not take, or None."""
+        return self._refused(topic, CommandError(text, 'bad pose'), wall_s)
 
     def set_enabled(self, topic, enable, wall_s):
         """A set_super_enable: enable (refused while stopped) or disable."""
@@ -178,7 +276,15 @@ class BaxterApi:
                      {side: model.endpoint_pose(side) for side in BAXTER_SIDES},
                      {side: gripper_state(model.grippers[side], model.enabled)
                       for side in BAXTER_SIDES},
-                     self._cycles % STATE_EVERY_N_CYCLES == 0)
+                     self._cycles % STATE_EVERY_N_CYCLES == 0, self._io_states())
+
+    def _io_states(self):
+        io = self.model.io
+        states = {digital_io_state_topic(n): f for n, f in io.digital_states().items()}
+        states.update((navigator_state_topic(n), f) for n, f in io.navigator_states().items())
+        states.update((analog_io_state_topic(n), f) for n, f in bio.analog_states().items())
+        states[HEAD_STATE] = self.model.head.state()
+        return states
 
 
 def _change(before, after):

@@ -8,13 +8,15 @@ import math
 
 from robopuppet import baxter_description as bd
 from robopuppet.baxter_sim.baxter_gripper import GRIPPER_OPEN, Gripper, approach
+from robopuppet.baxter_sim.baxter_io import DigitalIO, Head
 from robopuppet.baxter_sim.baxter_refusals import CommandError, NotEnabledError, brief, finite
 from robopuppet.interface import BAXTER_SIDES
 
 POSITION_MODE = 1       # baxter_core_msgs/JointCommand.POSITION_MODE: smoothed, speed-ratio scaled
+VELOCITY_MODE = 2       # JointCommand.VELOCITY_MODE: rad/s, integrated within the limits
+TORQUE_MODE = 3         # JointCommand.TORQUE_MODE: N m on top of gravity compensation
 RAW_POSITION_MODE = 4   # baxter_core_msgs/JointCommand.RAW_POSITION_MODE: at the velocity limit
-# The modes Baxter has but the stand-in refuses, by name (any other number: 'unknown mode').
-REFUSED_MODES = {2: 'velocity mode', 3: 'torque mode'}
+MODES = (POSITION_MODE, VELOCITY_MODE, TORQUE_MODE, RAW_POSITION_MODE)
 DEFAULT_SPEED_RATIO = 0.3
 DEFAULT_COMMAND_TIMEOUT_S = 0.2
 # Mode 1 approaches its target as a first-order lag with this time constant (capped in speed).
@@ -30,6 +32,9 @@ class Arm:
     def __init__(self, side, description, now_s):
         self.side = side
         self.limits = {lim.name: lim for lim in description.arm_limits(side)}
+        self.max_effort = {name: description.joints[name].effort for name in self.limits}
+        self.rates = dict.fromkeys(self.limits, 0.0)     # modes 2 and 3: joint speeds, rad/s
+        self.torques = dict.fromkeys(self.limits, 0.0)   # mode 3: commanded torques, N m
         self.positions = dict(bd.neutral_pose(side))
         self.velocities = {name: 0.0 for name in self.limits}
         self.targets = dict(self.positions)
@@ -43,23 +48,29 @@ class Arm:
         """Stop where the arm is."""
         self.targets = dict(self.positions)
         self.last_command_s = None
+        self.rates = dict.fromkeys(self.rates, 0.0)
+        self.torques = dict.fromkeys(self.torques, 0.0)
 
     def command(self, mode, names, values, now_s):
         """Take new targets; names may be any subset of this arm's joints, in any order.
 
-        Targets outside a joint's limits are clamped to the limit. A command that is refused
+        Position targets outside a joint's limits are clamped to the limit, velocities (mode 2)
+        to the velocity limit, torques (mode 3) to the effort limit; in modes 2 and 3 joints not
+        named get 0 (hold). A torque drives a gravity-compensated, damped joint: it moves at
+        torque / effort limit x velocity limit (the effort limit reaches the velocity limit).
+        A command that is refused
         changes nothing: it neither restarts the command timeout nor switches the mode. So an
         empty command (no names), which a real Baxter ignores, does not keep the arm moving.
 
         Raises:
-            CommandError: velocity, torque or unknown mode, length mismatch, no joints, more
+            CommandError: unknown mode, length mismatch, no joints, more
                 joints than the arm has, an unknown (or the other arm's) or repeated joint name,
                 or a non-finite value.
         """
-        if mode not in (POSITION_MODE, RAW_POSITION_MODE):
-            raise CommandError('%s arm: joint command mode %s refused: only position (1) and raw '
-                               'position (4) are supported' % (self.side, brief(mode)),
-                               REFUSED_MODES.get(mode, 'unknown mode'))
+        if mode not in MODES:
+            raise CommandError('%s arm: joint command mode %s is not a Baxter mode (1 position, '
+                               '2 velocity, 3 torque, 4 raw position)' % (self.side, brief(mode)),
+                               'unknown mode')
         if len(names) != len(values):
             raise CommandError('%s arm: joint command has %d names but %d values'
                                % (self.side, len(names), len(values)), 'length mismatch')
@@ -81,9 +92,20 @@ class Arm:
             limit = self.limits[name]
             value = finite(value, '%s arm: joint command for %s' % (self.side, name),
                            'non-finite value')
-            targets[name] = min(limit.upper, max(limit.lower, value))
+            bound = {VELOCITY_MODE: limit.velocity, TORQUE_MODE: self.max_effort[name]}.get(mode)
+            low, high = (limit.lower, limit.upper) if bound is None else (-bound, bound)
+            targets[name] = min(high, max(low, value))
         self.step(now_s)  # the arm moved toward the old targets until the command arrived
-        self.targets.update(targets)
+        self.rates = dict.fromkeys(self.rates, 0.0)
+        self.torques = dict.fromkeys(self.torques, 0.0)
+        if mode == VELOCITY_MODE:
+            self.rates.update(targets)
+        elif mode == TORQUE_MODE:
+            self.torques.update(targets)
+            self.rates.update({name: torque / self.max_effort[name] * self.limits[name].velocity
+                               for name, torque in targets.items()})
+        else:
+            self.targets.update(targets)
         self.mode = mode
         self.last_command_s = now_s
 
@@ -104,12 +126,19 @@ class Arm:
         if self.mode == POSITION_MODE:
             smoothing = 1.0 - math.exp(-active_s / SMOOTHING_TIME_S)
             ratio = self.speed_ratio
+        integrating = self.mode in (VELOCITY_MODE, TORQUE_MODE)
         for name, limit in self.limits.items():
             old = self.positions[name]
-            new = approach(old, self.targets[name], ratio * limit.velocity * active_s, smoothing)
+            if integrating:
+                new = min(limit.upper, max(limit.lower, old + self.rates[name] * active_s))
+            else:
+                new = approach(old, self.targets[name], ratio * limit.velocity * active_s,
+                               smoothing)
             self.positions[name] = new
             self.velocities[name] = (new - old) / dt
         if self.last_command_s is None:
+            self.hold()
+        elif integrating:
             self.targets = dict(self.positions)
 
 
@@ -134,7 +163,8 @@ class BaxterModel:
         for side in BAXTER_SIDES:
             speed = description.limit(self.fingers[side][0]).velocity / travel_m[side] * 100.0
             self.grippers[side] = Gripper(speed, gripper_calibrated, now_s)
-        self.head_pan_rad = 0.0
+        self.head = Head(description.limit(bd.HEAD_PAN), now_s)
+        self.io = DigitalIO()
 
     # -- enable state (/robot/set_super_enable, _reset, _stop) --
     def set_enabled(self, enable):
@@ -148,6 +178,7 @@ class BaxterModel:
         self.enabled = bool(enable)
         for arm in self.arms.values():
             arm.hold()
+        self.head.hold()
 
     def stop(self):
         """Software e-stop: disable and latch stopped until reset."""
@@ -195,6 +226,12 @@ class BaxterModel:
                                'out of range')
         self._arm(side).command_timeout_s = timeout_s
 
+    def head_pan(self, target_rad, speed_ratio, enable_pan_request):
+        """Apply a HeadPanCommand (see Head.command_pan); refused while disabled."""
+        if not self.enabled:
+            raise NotEnabledError('head pan command ignored: robot disabled')
+        self.head.command_pan(target_rad, speed_ratio, enable_pan_request)
+
     def gripper_command(self, side, command, args, sender, sequence):
         """Apply an EndEffectorCommand to one gripper (see Gripper.command)."""
         if side not in self.grippers:
@@ -212,11 +249,12 @@ class BaxterModel:
                 arm.velocities = dict.fromkeys(arm.velocities, 0.0)
         for gripper in self.grippers.values():
             gripper.step(now_s, self.enabled)
+        self.head.step(now_s, self.enabled)
 
     # -- outputs --
     def positions(self):
         """Return {joint name: position} of every movable joint (rad, m for fingers)."""
-        result = {bd.HEAD_PAN: self.head_pan_rad}
+        result = {bd.HEAD_PAN: self.head.pan_rad}
         for side in BAXTER_SIDES:
             result.update(self.arms[side].positions)
             driven, mimic = self.fingers[side]
@@ -227,20 +265,25 @@ class BaxterModel:
     def joint_state(self):
         """Return (names, positions, velocities, efforts), equal-length lists.
 
-        Names are every movable URDF joint plus torso_t0, sorted; effort is always 0.
+        Names are every movable URDF joint plus torso_t0, sorted. Effort (N m) is the torque a
+        torque-mode command applies on top of gravity compensation, else 0: the URDF carries no
+        masses, so the model knows no gravity torques.
         """
         positions = self.positions()
         velocities = dict.fromkeys(positions, 0.0)
+        efforts = dict.fromkeys(positions, 0.0)
+        velocities[bd.HEAD_PAN] = self.head.velocity_rad_s
         for side in BAXTER_SIDES:
             velocities.update(self.arms[side].velocities)
+            efforts.update(self.arms[side].torques)
             driven, mimic = self.fingers[side]
             speed = (self.grippers[side].speed_pct_s / GRIPPER_OPEN
                      * self.finger_travel_m[side])
             velocities[driven], velocities[mimic] = speed, -speed
-        positions[bd.TORSO] = velocities[bd.TORSO] = 0.0
+        positions[bd.TORSO] = velocities[bd.TORSO] = efforts[bd.TORSO] = 0.0
         names = sorted(positions)
         return (names, [positions[n] for n in names], [velocities[n] for n in names],
-                [0.0] * len(names))
+                [efforts[n] for n in names])
 
     def endpoint_pose(self, side):
         """Return ((x, y, z) m, (qx, qy, qz, qw)) of the side's gripper link in base."""

@@ -12,6 +12,8 @@ import rospkg
 import rospy
 from baxter_core_msgs.msg import (AssemblyState, EndEffectorCommand, EndEffectorProperties,
                                   EndEffectorState, EndpointState, JointCommand)
+from baxter_core_msgs.srv import SolvePositionIK, SolvePositionIKResponse
+from roslib.message import get_message_class
 from geometry_msgs.msg import Point, Pose, Quaternion
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool, Empty, Float64, Header
@@ -32,21 +34,17 @@ def _param(name, default, check):
 class BaxterSimNode:
     """Publish Baxter's state and obey its commands, through BaxterApi and BaxterModel.
 
-    ROS API:
-      Subscribes: /robot/set_super_enable (std_msgs/Bool), /robot/set_super_reset and
-        /robot/set_super_stop (std_msgs/Empty), /robot/limb/<side>/joint_command
-        (baxter_core_msgs/JointCommand), /robot/limb/<side>/set_speed_ratio (std_msgs/Float64,
-        0..1), /robot/limb/<side>/joint_command_timeout (std_msgs/Float64, s),
-        /robot/end_effector/<side>_gripper/command (baxter_core_msgs/EndEffectorCommand).
-      Publishes: /robot/joint_states (sensor_msgs/JointState, every cycle), /robot/state
-        (baxter_core_msgs/AssemblyState, latched, rate_hz/5 and on change),
-        /robot/limb/<side>/endpoint_state (baxter_core_msgs/EndpointState, frame base, every
-        cycle), /robot/end_effector/<side>_gripper/state (EndEffectorState, every cycle) and
-        .../properties (EndEffectorProperties, latched).
+    ROS API (docs/baxter_sim.md has the types and units):
+      Subscribes: /robot/set_super_enable, _reset, _stop; /robot/limb/<side>/joint_command,
+        set_speed_ratio, joint_command_timeout; /robot/end_effector/<side>_gripper/command;
+        baxter_api.IO_SUBSCRIPTIONS (digital outputs, head pan and nod, /baxter_sim/digital_input).
+      Publishes every cycle: /robot/joint_states, /robot/limb/<side>/endpoint_state (frame base),
+        /robot/end_effector/<side>_gripper/state and every baxter_api.io_publications() topic;
+        /robot/state (latched, rate_hz/5 and on change), gripper properties (latched).
+      Serves: /ExternalTools/<side>/PositionKinematicsNode/IKService (SolvePositionIK).
       Sets: /rethink/software_version = '1.2.0'.
-      Logs: a refused command, at most every 2 s per topic and reason of refusal; an exception
-        in a callback or in the publishing loop (which both go on), with the count of failures
-        since start (the stand-in has no /diagnostics).
+      Logs: a refused command, at most every 2 s per topic and reason; an exception in a
+        callback or the loop (both go on), with the count of failures since start.
       Parameters: /robot_description (URDF text; the package's urdf/baxter.urdf when unset),
         ~rate_hz (float, 100), ~joint_command_timeout (float s, 0.2, initial value for both
         arms), ~gripper_calibrated (bool, false: like the real grippers after power-up).
@@ -74,6 +72,11 @@ class BaxterSimNode:
         self._joint_pub = rospy.Publisher(interface.ROBOT_JOINT_STATES, JointState, queue_size=10)
         self._endpoint_pub, self._gripper_pub = {}, {}
         a, data = self._api, lambda m: (m.data,)
+        self._io_pub = {topic: rospy.Publisher(topic, get_message_class(kind), queue_size=10)
+                        for topic, kind in api.io_publications()}
+        for topic, kind, method, names in api.IO_SUBSCRIPTIONS:
+            self._subscribe(topic, get_message_class(kind), getattr(a, method), None,
+                            lambda m, names=names: tuple(getattr(m, n) for n in names))
         for side in BAXTER_SIDES:
             limb, grip = (functools.partial(f, side)
                           for f in (interface.limb_topic, interface.baxter_gripper_topic))
@@ -90,6 +93,8 @@ class BaxterSimNode:
             self._subscribe(limb('joint_command_timeout'), Float64, a.command_timeout, side, data)
             self._subscribe(grip('command'), EndEffectorCommand, a.gripper_command, side,
                             lambda m: (m.id, m.command, m.args, m.sender, m.sequence))
+            rospy.Service(api.ik_service(side), SolvePositionIK,
+                          functools.partial(self._solve_ik, side))
         self._subscribe(interface.SET_SUPER_ENABLE, Bool, a.set_enabled, None, data)
         self._subscribe(interface.SET_SUPER_RESET, Empty, a.reset, None, lambda m: ())
         self._subscribe(interface.SET_SUPER_STOP, Empty, a.stop, None, lambda m: ())
@@ -102,6 +107,21 @@ class BaxterSimNode:
         def guarded(msg):
             self._guard.call(topic, self._command, command, *head, *fields(msg))
         rospy.Subscriber(topic, msg_type, guarded, queue_size=10)
+
+    def _solve_ik(self, side, request):
+        """Answer a SolvePositionIK: one solution (or isValid false) per pose, seeded."""
+        with self._lock:
+            current = self._api.model.positions()
+        poses = [(p.header.frame_id, (p.pose.position.x, p.pose.position.y, p.pose.position.z),
+                  (p.pose.orientation.x, p.pose.orientation.y, p.pose.orientation.z,
+                   p.pose.orientation.w)) for p in request.pose_stamp]
+        seeds = [dict(zip(seed.name, seed.position)) for seed in request.seed_angles]
+        answers, problems = self._api.solve_ik(side, poses, seeds, request.seed_mode, current)
+        for text in problems:
+            self._command(self._api.ik_refused, api.ik_service(side), text)
+        return SolvePositionIKResponse(
+            [JointState(name=a.names, position=a.positions or []) for a in answers],
+            [a.positions is not None for a in answers], bytes(a.result_type for a in answers))
 
     def _log_failure(self, text):
         """Log a callback's or the loop's exception (the Guard throttles and counts them)."""
@@ -139,6 +159,11 @@ class BaxterSimNode:
                 pose=Pose(Point(*xyz), Quaternion(*quaternion))))
         for side, fields in cycle.grippers.items():
             self._gripper_pub[side].publish(EndEffectorState(timestamp=stamp, **fields))
+        for topic, fields in cycle.io.items():
+            kind = self._io_pub[topic].data_class
+            if 'timestamp' in kind.__slots__:
+                fields = dict(fields, timestamp=stamp)
+            self._io_pub[topic].publish(kind(**fields))
         if cycle.state_due:
             self._publish_state()
 

@@ -1,0 +1,134 @@
+#!/usr/bin/python3
+"""rostest: the stand-in's digital IO, navigators, analog IO, head and IK service, as the Rethink
+SDK 1.2 tools wait for and use them. Names, types and timeouts are the SDK's, spelled out."""
+import time
+import unittest
+
+import rospy
+import rostest
+from baxter_core_msgs.msg import (AnalogIOState, AssemblyState, DigitalIOState,
+                                  DigitalOutputCommand, HeadPanCommand, HeadState,
+                                  NavigatorState)
+from baxter_core_msgs.srv import SolvePositionIK, SolvePositionIKRequest
+from geometry_msgs.msg import Point, Pose, PoseStamped, Quaternion
+from std_msgs.msg import Bool, Header
+
+from baxter_sim_testing import Latest, publisher, wait_for
+from robopuppet import baxter_description as bd
+
+NAVIGATORS = ('left', 'right', 'torso_left', 'torso_right')
+# Every state topic the stand-in publishes beyond the arms', and its type: Rethink's names.
+TOPICS = dict(
+    [('/robot/digital_io/%s_%s/state' % (side, name), DigitalIOState)
+     for side in ('left', 'right')
+     for name in ('lower_cuff', 'upper_button', 'lower_button', 'shoulder_button')]
+    + [('/robot/digital_io/%s_%s_light/state' % (nav, light), DigitalIOState)
+       for nav in NAVIGATORS for light in ('inner', 'outer')]
+    + [('/robot/navigators/%s_navigator/state' % nav, NavigatorState) for nav in NAVIGATORS]
+    + [('/robot/analog_io/%s_hand_range/state' % side, AnalogIOState)
+       for side in ('left', 'right')]
+    + [('/robot/head/head_state', HeadState)])
+RATE_HZ = 100.0     # Rethink's simulator publishes these at 100 Hz, like joint_states
+
+
+def first_message(topic, msg_type, timeout_s):
+    """Wait like baxter_dataflow.wait_for in an SDK constructor: a message within timeout_s."""
+    latest = Latest(topic, msg_type)
+    wait_for(lambda: latest.msg is not None, timeout_s, 'the first message on ' + topic)
+    return latest.msg
+
+
+class BaxterSimSdkTest(unittest.TestCase):
+
+    @classmethod
+    def setUpClass(cls):
+        cls.state = Latest('/robot/state', AssemblyState)
+        cls.head = Latest('/robot/head/head_state', HeadState)
+        wait_for(lambda: cls.state.msg and cls.head.msg, 20.0, 'the stand-in to publish')
+
+    def test_every_topic_at_the_rate_with_its_type(self):
+        latest = {topic: Latest(topic, kind) for topic, kind in TOPICS.items()}
+        wait_for(lambda: all(l.msg for l in latest.values()), 10.0, 'every IO topic')
+        for l in latest.values():
+            l.record()
+        time.sleep(2.0)
+        for topic, l in latest.items():
+            log = l.stop_recording()
+            rate_hz = (len(log) - 1) / (log[-1][0] - log[0][0])
+            self.assertTrue(0.7 * RATE_HZ < rate_hz < 1.3 * RATE_HZ, (topic, rate_hz))
+            self.assertIsInstance(log[-1][1], TOPICS[topic])
+
+    def test_a_digital_io_command_switches_a_light(self):
+        pub = publisher('/robot/digital_io/command', DigitalOutputCommand)
+        light = Latest('/robot/digital_io/left_inner_light/state', DigitalIOState)
+        nav = Latest('/robot/navigators/left_navigator/state', NavigatorState)
+        wait_for(lambda: light.msg and nav.msg, 5.0, 'the light state')
+        self.assertEqual((light.msg.state, light.msg.isInputOnly), (DigitalIOState.OFF, False))
+        for value, state in ((True, DigitalIOState.ON), (False, DigitalIOState.OFF)):
+            pub.publish(DigitalOutputCommand('left_inner_light', value))
+            wait_for(lambda: light.msg.state == state and nav.msg.lights[0] == value, 2.0,
+                     'the light to switch to %s' % value)
+
+    def test_a_simulated_cuff_squeeze_presses_the_cuff(self):
+        pub = publisher('/baxter_sim/digital_input', DigitalOutputCommand)
+        cuff = Latest('/robot/digital_io/right_lower_cuff/state', DigitalIOState)
+        wait_for(lambda: cuff.msg, 5.0, 'the cuff state')
+        self.assertTrue(cuff.msg.isInputOnly)
+        for value, state in ((True, DigitalIOState.PRESSED), (False, DigitalIOState.UNPRESSED)):
+            pub.publish(DigitalOutputCommand('right_lower_cuff', value))
+            wait_for(lambda: cuff.msg.state == state, 2.0, 'the cuff squeeze %s' % value)
+
+    def test_the_head_pans_at_the_commanded_speed(self):
+        enable = publisher('/robot/set_super_enable', Bool)
+        pan = publisher('/robot/head/command_head_pan', HeadPanCommand)
+        enable.publish(True)
+        wait_for(lambda: self.state.msg.enabled, 5.0, 'the robot enabled')
+        ratio, target = 0.4, 1.0
+        speed = ratio * bd.load().limit(bd.HEAD_PAN).velocity
+        self.head.record()
+        pan.publish(HeadPanCommand(target, ratio, HeadPanCommand.REQUEST_PAN_VOID))
+        wait_for(lambda: abs(self.head.msg.pan - target) < 1e-6, 10.0, 'the head at its target')
+        moving = [(t, m.pan) for t, m in self.head.stop_recording() if m.isTurning]
+        (t0, p0), (t1, p1) = moving[len(moving) // 4], moving[3 * len(moving) // 4]
+        self.assertAlmostEqual((p1 - p0) / (t1 - t0), speed, delta=0.15 * speed)
+        self.assertFalse(self.head.msg.isTurning)
+
+    def test_each_sdk_tool_would_start(self):
+        # tuck_arms.py and head_wobbler.py: baxter_interface.Head() waits 5 s for head_state.
+        first_message('/robot/head/head_state', HeadState, 5.0)
+        # joint_trajectory_action_server.py: DigitalIO('<side>_lower_cuff'), 2 s each.
+        # gripper_cuff_control.py: the cuff and both its buttons, 2 s each.
+        for side in ('left', 'right'):
+            for name in ('lower_cuff', 'upper_button', 'lower_button'):
+                first_message('/robot/digital_io/%s_%s/state' % (side, name), DigitalIOState, 2.0)
+        # joint_recorder.py: Navigator('left') and ('right'): both lights (DigitalIO, 2 s each),
+        # then the navigator state within baxter_dataflow.wait_for's default 1 s.
+        for nav in ('left', 'right'):
+            for light in ('inner', 'outer'):
+                msg = first_message('/robot/digital_io/%s_%s_light/state' % (nav, light),
+                                    DigitalIOState, 2.0)
+                self.assertFalse(msg.isInputOnly)
+            msg = first_message('/robot/navigators/%s_navigator/state' % nav, NavigatorState, 1.0)
+            self.assertEqual((len(msg.buttons), len(msg.lights)), (3, 2))
+        # ik_service_client.py: wait_for_service 5 s, one pose in base; result_type[0] valid.
+        for side in ('left', 'right'):
+            name = '/ExternalTools/%s/PositionKinematicsNode/IKService' % side
+            rospy.wait_for_service(name, 5.0)
+            xyz, (qx, qy, qz, qw) = bd.load().pose(bd.neutral_pose(side), bd.gripper_link(side))
+            request = SolvePositionIKRequest()
+            request.pose_stamp.append(PoseStamped(Header(stamp=rospy.Time.now(), frame_id='base'),
+                                                  Pose(Point(*xyz), Quaternion(qx, qy, qz, qw))))
+            request.pose_stamp.append(PoseStamped(Header(frame_id='base'),
+                                                  Pose(Point(3.0, 0, 0), Quaternion(0, 0, 0, 1))))
+            answer = rospy.ServiceProxy(name, SolvePositionIK)(request)
+            self.assertEqual(list(answer.isValid), [True, False])
+            self.assertNotEqual(answer.result_type[0], answer.RESULT_INVALID)
+            self.assertEqual(answer.result_type[1], answer.RESULT_INVALID)
+            solved = dict(zip(answer.joints[0].name, answer.joints[0].position))
+            reached, _ = bd.load().pose(solved, bd.gripper_link(side))
+            self.assertLess(sum((a - b) ** 2 for a, b in zip(reached, xyz)) ** 0.5, 1e-3)
+
+
+if __name__ == '__main__':
+    rospy.init_node('test_baxter_sim_sdk')
+    rostest.rosrun('robopuppet', 'test_baxter_sim_sdk', BaxterSimSdkTest)
