@@ -380,4 +380,4 @@ def test_virtual_puppet_panel_publishes_hand_buttons_and_end_piece(qtbot, client
     assert sim.grippers[-1] == [0.0, 0.0, 0.0, 1.0]
     panel.gripper_sliders[1].setValue(40)
     assert sim.grippers[-1] == [0.0, 0.4, 0.0, 1.0]
-    assert win.joint_tabs == [] and win.tabs.count() == 1
+    assert win.joint_tabs == [] and win.tabs.count() == 2  # main and calibration

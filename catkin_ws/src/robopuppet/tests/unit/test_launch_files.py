@@ -12,7 +12,8 @@ from robopuppet import interface
 LAUNCH_DIR = os.path.join(os.path.dirname(__file__), '..', '..', 'launch')
 TEST_DIR = os.path.join(os.path.dirname(__file__), '..', 'integration')
 LAUNCH = os.path.join(LAUNCH_DIR, 'arm.launch')
-LAUNCH_FILES = ('arm.launch', 'puppet.launch', 'main_sim.launch', 'baxter_sim.launch')
+LAUNCH_FILES = ('arm.launch', 'puppet.launch', 'main_sim.launch', 'baxter_sim.launch',
+                'ghost.launch', 'display_real.launch')
 # The seed's Table 5 defaults, but frame_rate: 30 Hz (pyqtgraph) where the 2020 Tk GUI used 8.
 TABLE_5 = {'arm_side': 'L', 'port_name': '/dev/ttyACM0', 'comm_rate': '10.0',
            'frame_rate': '30.0', 'debug_mode': 'true'}
@@ -21,14 +22,19 @@ OVERRIDES = {('main_sim.launch', 'run_side_L'): 'the simulated system runs the r
              ('puppet.launch', 'gui'): 'arm.launch alone opens no GUI; puppet.launch one per arm'}
 
 
-def load(*args, launch=LAUNCH):
-    """Return {node name: node} and the params of a launch file run with the given arguments."""
+def load_config(*args, launch=LAUNCH):
+    """Return the roslaunch config of a launch file run with the given arguments."""
     saved = sys.argv
     sys.argv = ['roslaunch', 'robopuppet', os.path.basename(launch)] + list(args)
     try:
-        config = roslaunch.config.load_config_default([launch], None)
+        return roslaunch.config.load_config_default([launch], None)
     finally:
         sys.argv = saved
+
+
+def load(*args, launch=LAUNCH):
+    """Return {node name: node} and the params of a launch file run with the given arguments."""
+    config = load_config(*args, launch=launch)
     return {n.name: n for n in config.nodes}, {k: p.value for k, p in config.params.items()}
 
 
@@ -146,8 +152,21 @@ def test_main_sim_runs_the_right_arm_on_simulated_hardware_by_default():
     nodes, params = load('rviz:=false', 'gui:=false',
                          launch=os.path.join(LAUNCH_DIR, 'main_sim.launch'))
     assert {'baxter_sim', 'robot_state_publisher', 'config_R', 'serial_R', 'puppet_sim_R',
-            'arm_R'} == set(nodes)
+            'arm_R', 'ghost'} == set(nodes)
     assert params['/serial_R/port_name'] == params['/puppet_sim_R/port_link']
+
+
+@pytest.mark.parametrize('launch', ['main_sim.launch', 'display_real.launch'])
+def test_the_ghost_has_a_prefixed_description_and_its_own_state_publisher(launch):
+    config = load_config('rviz:=false', 'gui:=false', launch=os.path.join(LAUNCH_DIR, launch))
+    nodes = {(n.namespace, n.name): n for n in config.nodes}
+    assert ('/ghost/', 'robot_state_publisher') in nodes and ('/ghost/', 'ghost') in nodes
+    ghost = ET.fromstring(config.params['/ghost/robot_description'].value)
+    assert ghost.find('link').get('name').startswith('ghost/')
+    assert config.params['/ghost/ghost/prefix'].value == 'ghost/'
+    if launch == 'display_real.launch':  # the real robot publishes its own description
+        assert '/robot_description' not in config.params
+        assert 'real_robot.rviz' in nodes[('/', 'rviz')].args
 
 
 def test_main_sim_passes_its_arguments_on_as_run_sh_gives_them():

@@ -19,14 +19,16 @@ LAYERS = {
     'protocol': set(),
     'arm': set(),
     'puppet_sim': {'protocol'},
-    'gui': {'config', 'puppet_sim'},
+    'calibration': set(),
+    'gui': {'calibration', 'config', 'puppet_sim'},
+    'ghost': {'arm'},
 }
 # The modules that may talk to ROS: the node adapters (named *_node; only the executables in
 # nodes/ import them) and the adapters they use.
 ADAPTERS = {
     'config.config_node', 'protocol.serial_node', 'arm.arm_node',
     'puppet_sim.puppet_sim_node', 'baxter_sim.baxter_sim_node', 'gui.gui_node',
-    'gui.puppet_client',
+    'gui.puppet_client', 'ghost.ghost_node', 'calibration.calibrate_node',
 }
 # The GUI's widgets are Qt by nature; they may import Qt but not rospy.
 QT_MODULES_OK = 'gui'

@@ -5,6 +5,7 @@ reads it once per frame.
 """
 import collections
 import math
+import threading
 
 import rospy
 from diagnostic_msgs.msg import DiagnosticArray
@@ -13,7 +14,7 @@ from std_msgs.msg import Empty, Float32, Float32MultiArray, String, UInt8
 
 from robopuppet import interface, settings
 from robopuppet.gui import state
-from robopuppet_msgs.msg import TeleopState
+from robopuppet_msgs.msg import ArmSettings, TeleopState
 from robopuppet_msgs.srv import GetConfig, SetConfig
 
 # Incoming messages each subscriber keeps when its callback falls behind (older ones are
@@ -44,8 +45,9 @@ class PuppetClient:
     """Connect an ArmState to one puppet arm's topics and services.
 
     Subscribes (under <ns> = /puppet/arm_<side>): heartbeat, opmode, teleop_state, user_btn,
-        gripper_G, joint_J/{enc_stat,angle,voltage,setpoint}; and /diagnostics, keeping the
-        serial link's status of this arm (is_link_status).
+        gripper_G, joint_J/{enc_stat,angle,voltage,setpoint}, stored_settings (kept for
+        stored_settings()); and /diagnostics, keeping the serial link's status of this arm
+        (is_link_status).
     Publishes: <ns>/opmode (std_msgs/String), <ns>/joint_J/setpoint (std_msgs/Float32).
     Calls: <ns>/get_config (robopuppet_msgs/GetConfig), <ns>/set_config
         (robopuppet_msgs/SetConfig).
@@ -56,6 +58,8 @@ class PuppetClient:
         self.ns = interface.puppet_ns(side)
         self.state = arm_state
         self._clock = clock
+        self._stored_lock = threading.Lock()
+        self._stored = None
 
         def topic(name):
             return '%s/%s' % (self.ns, name)
@@ -70,6 +74,7 @@ class PuppetClient:
             sub(topic(interface.USER_BUTTON), UInt8, lambda msg: arm_state.on_button(msg.data)),
             sub(interface.DIAGNOSTICS, DiagnosticArray, self._on_diagnostics,
                 queue_size=DIAGNOSTICS_QUEUE_SIZE),
+            sub(topic(interface.STORED_SETTINGS), ArmSettings, self._on_stored, queue_size=1),
         ]
         for gripper in range(interface.NUM_GRIPPERS):
             self._subscribers.append(sub(interface.gripper_topic(side, gripper), Float32,
@@ -135,6 +140,17 @@ class PuppetClient:
                               [values[name] for name in names])
         return SetAnswer(response.stored, response.error,
                          {name: getattr(response.settings, name) for name in settings.NAMES})
+
+    def stored_settings(self):
+        """Return config_X's latest stored_settings as {joint: {name: value}}, or None."""
+        with self._stored_lock:
+            return self._stored
+
+    def _on_stored(self, msg):
+        stored = {j.joint: {name: getattr(j, name) for name in settings.NAMES}
+                  for j in msg.joints}
+        with self._stored_lock:
+            self._stored = stored
 
     def _call(self, proxy, service, timeout_s, *args):
         try:

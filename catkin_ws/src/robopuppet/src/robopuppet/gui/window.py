@@ -1,7 +1,8 @@
-"""The GUI window: main tab, optional joint tabs, optional virtual puppet panel."""
+"""The GUI window: main tab, calibration wizard, optional joint tabs and virtual puppet panel."""
 from PyQt5 import QtWidgets
 
 from robopuppet import settings
+from robopuppet.gui.calibration_tab import CalibrationTab
 from robopuppet.gui.joint_tab import JointTab
 from robopuppet.gui.main_tab import MainTab
 from robopuppet.gui.sim_panel import SimPanel
@@ -26,6 +27,8 @@ class Window(QtWidgets.QMainWindow):
         self.tabs = QtWidgets.QTabWidget()
         self.main_tab = MainTab(client)
         self.tabs.addTab(self.main_tab, 'Main')
+        self.calibration_tab = CalibrationTab(client)
+        self.tabs.addTab(self.calibration_tab, 'Calibration')
         self.joint_tabs = []
         if debug_mode:
             for joint in settings.JOINTS:

@@ -1,0 +1,1 @@
+"""Guided calibration: each joint's home_angle and sign_angle solved from captured poses."""

@@ -1,0 +1,181 @@
+"""The calibration procedure's steps, shared by the GUI wizard and the terminal command.
+
+Pure: no ROS, no Qt, no clock. Angles in rad; `stored` is {joint: {setting name: value}} as
+config_X stores it (the settings loaded in the puppet); a joint's reading is (encoder status
+text, reported angle rad).
+
+Steps: every quadrature joint Working (joints_to_turn), then one capture per pose of POSES
+(Session.capture turns the reported angles back into raw encoder angles with the stored
+settings), then solve (solver.solve) and the old and new values side by side (Session.changes),
+then apply_changes (one all-or-none set_config per joint), and undo with the old values.
+DirectionCheck then asks for each joint to be moved in Baxter's positive direction.
+"""
+import collections
+import math
+
+from robopuppet import interface, settings
+from robopuppet.calibration import solver
+
+QUAD_JOINTS = (0, 2, 4, 6)  # quadrature encoders: Uncalibrated until turned through 0 rad
+CALIBRATED = ('home_angle', 'sign_angle')
+CLAMP_MARGIN_RAD = 0.01  # a reading this close to angle_min/angle_max may be clamped
+END_PIECE_PRESSED_BELOW, END_PIECE_RELEASED_ABOVE = 0.3, 0.7  # gripper 3, with hysteresis
+
+Pose = collections.namedtuple('Pose', 'name angles_rad')
+# Baxter's zero pose first, then two that move every joint by 0.5 rad (within Baxter's joint
+# limits: joint 3, the elbow bend, cannot go below -0.05 rad, so it bends +0.5 rad in both).
+POSES = (
+    Pose("Baxter's zero pose", (0.0,) * settings.NUM_JOINTS),
+    Pose('pose A', (0.5, -0.5, 0.5, 0.5, 0.5, 0.5, 0.5)),
+    Pose('pose B', (-0.5, 0.5, -0.5, 0.5, -0.5, -0.5, -0.5)),
+)
+
+Change = collections.namedtuple('Change', 'joint old new fit')
+Change.__doc__ = """One joint's calibration: old and new {'home_angle', 'sign_angle'} and the
+solver.JointFit behind new."""
+Applied = collections.namedtuple('Applied', 'written error')
+Applied.__doc__ = """What apply_changes did: written, the joints stored (in order), and error,
+'' or why the next joint was not stored (the joints after it were not tried)."""
+
+
+class CaptureError(ValueError):
+    """A pose cannot be captured now; str() tells the operator what to do."""
+
+
+def joints_to_turn(readings):
+    """Return the quadrature joints that are not Working (to turn through their index mark)."""
+    return [j for j in QUAD_JOINTS if readings[j][0] != interface.WORKING]
+
+
+def raw_angles(readings, stored):
+    """Return the seven raw encoder angles behind the readings, or raise CaptureError.
+
+    Refused: a joint not Working, a reading that is not a number, a reading within
+    CLAMP_MARGIN_RAD of angle_min or angle_max (the firmware clamps there, so the raw angle
+    cannot be recovered), and no stored settings.
+    """
+    if stored is None:
+        raise CaptureError('no stored settings from config_X yet: is the config node running?')
+    problems, raws = [], []
+    for joint, (status, angle) in enumerate(readings):
+        cfg = stored[joint]
+        if status != interface.WORKING:
+            problems.append('joint %d is %s' % (joint, status or 'not reporting'))
+        elif not math.isfinite(angle):
+            problems.append('joint %d reports no angle' % joint)
+        elif min(abs(angle - cfg['angle_min']), abs(angle - cfg['angle_max'])) < CLAMP_MARGIN_RAD:
+            problems.append('joint %d reads %.3f rad, at its limit [%.3f, %.3f]: the reading '
+                            'may be clamped (widen angle_min/angle_max, then capture again)'
+                            % (joint, angle, cfg['angle_min'], cfg['angle_max']))
+        else:
+            raws.append(solver.raw_from_reported(angle, cfg['home_angle'], cfg['sign_angle']))
+    if problems:
+        raise CaptureError('cannot capture: ' + '; '.join(problems))
+    return raws
+
+
+class Session:
+    """The captures of one calibration run, one per pose of `poses`, in order."""
+
+    def __init__(self, poses=POSES):
+        self.poses = tuple(poses)
+        self.raws = []  # per captured pose, seven raw encoder angles (rad)
+
+    def pose(self):
+        """Return the pose to capture next, or None when every pose is captured."""
+        return self.poses[len(self.raws)] if len(self.raws) < len(self.poses) else None
+
+    def capture(self, readings, stored):
+        """Capture the next pose from the readings and the stored settings (CaptureError)."""
+        if self.pose() is None:
+            raise CaptureError('every pose is captured already')
+        self.raws.append(raw_angles(readings, stored))
+
+    def retake(self):
+        """Forget the last capture (nothing happens before the first)."""
+        if self.raws:
+            self.raws.pop()
+
+    def fits(self):
+        """Return the solver.JointFit of each joint (SolveError before every pose)."""
+        if self.pose() is not None:
+            raise solver.SolveError('%d of %d poses captured' % (len(self.raws), len(self.poses)))
+        return solver.solve([pose.angles_rad for pose in self.poses], self.raws)
+
+    def changes(self, stored):
+        """Return a Change per joint: stored values beside the solution."""
+        return [Change(fit.joint, {n: stored[fit.joint][n] for n in CALIBRATED},
+                       {'home_angle': fit.home_angle, 'sign_angle': fit.sign_angle}, fit)
+                for fit in self.fits()]
+
+
+def apply_changes(set_config, values):
+    """Store {joint: {name: value}} with one set_config(joint, values) per joint, in order.
+
+    set_config returns an answer with .stored and .error (gui.puppet_client.SetAnswer) or raises
+    a RuntimeError; the first refusal or error stops the run. Returns an Applied.
+    """
+    written = []
+    for joint, joint_values in sorted(values.items()):
+        try:
+            answer = set_config(joint, dict(joint_values))
+        except RuntimeError as error:
+            return Applied(written, 'joint %d: %s' % (joint, error))
+        if not answer.stored:
+            return Applied(written, 'joint %d refused: %s' % (joint, answer.error))
+        written.append(joint)
+    return Applied(written, '')
+
+
+class EndPiecePress:
+    """Tell a press of the end-piece button (gripper 3: ~1 released, ~0 pressed), once each."""
+
+    def __init__(self):
+        self._pressed = True  # a button held down when the wizard starts is not a press
+
+    def update(self, reading):
+        """Take a reading; return True when it begins a press."""
+        if not math.isfinite(reading):
+            return False
+        if self._pressed:
+            self._pressed = reading < END_PIECE_RELEASED_ABOVE
+            return False
+        self._pressed = reading < END_PIECE_PRESSED_BELOW
+        return self._pressed
+
+
+class DirectionCheck:
+    """Ask for each joint in turn to be moved in Baxter's positive direction; note which way.
+
+    update(readings) takes the reported angles: the first reading of a joint is its start, and
+    once it has moved move_rad either way the result is kept and the next joint's turn begins.
+    """
+
+    def __init__(self, joints=settings.JOINTS, move_rad=0.2):
+        self.joints = tuple(joints)
+        self.move_rad = move_rad
+        self.moved_positive = {}  # joint -> True when it moved the right way
+        self._start_rad = None
+
+    def joint(self):
+        """Return the joint to move now, or None when every joint is checked."""
+        return next((j for j in self.joints if j not in self.moved_positive), None)
+
+    def update(self, angles_rad):
+        """Take the reported angles (rad); return the joint just checked, or None."""
+        joint = self.joint()
+        if joint is None or not math.isfinite(angles_rad[joint]):
+            return None
+        if self._start_rad is None:
+            self._start_rad = angles_rad[joint]
+            return None
+        moved = solver.wrap(angles_rad[joint] - self._start_rad)
+        if abs(moved) < self.move_rad:
+            return None
+        self.moved_positive[joint] = moved > 0.0
+        self._start_rad = None
+        return joint
+
+    def wrong(self):
+        """Return the joints that moved the wrong way."""
+        return [j for j, right in sorted(self.moved_positive.items()) if not right]

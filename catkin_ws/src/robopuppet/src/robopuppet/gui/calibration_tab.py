@@ -1,0 +1,236 @@
+"""The calibration wizard: each joint's home_angle and sign_angle from poses (one arm).
+
+Steps (robopuppet.calibration.procedure): Start checks that every quadrature joint is Working
+and says which to turn; then, for each pose, the figure shows it and Capture (or a press of the
+end-piece button while this tab is shown) captures it; then the table shows old and new values
+and each joint's residual; Apply stores them (one set_config per joint, off the GUI thread);
+Undo stores the old values of the joints Apply wrote; Check asks for each joint to be moved in
+Baxter's positive direction and names the joints that move the wrong way.
+"""
+import math
+
+from PyQt5 import QtWidgets
+
+from robopuppet import interface, settings
+from robopuppet.calibration import procedure, solver
+from robopuppet.gui.config_task import ConfigTask
+from robopuppet.gui.main_tab import GREEN, RED, number, paint
+from robopuppet.gui.pose_figure import PoseFigure
+
+APPLY_TIMEOUT_S = 20.0  # seven set_config calls, each waiting up to 1 s for the service
+COLUMNS = ('target', 'reported', 'home old', 'home new', 'sign old', 'sign new', 'residual',
+           'problem')
+
+
+class CalibrationTab(QtWidgets.QWidget):
+    """The wizard for one arm. `client`: a PuppetClient (or a double with .state,
+    .stored_settings() and .set_config(joint, values))."""
+
+    def __init__(self, client, parent=None):
+        super().__init__(parent)
+        self.client = client
+        self.session = None
+        self.changes = None  # [procedure.Change] once every pose is captured
+        self.undo_values = {}  # {joint: old values} of the joints the last Apply wrote
+        self.check = None  # a procedure.DirectionCheck while checking
+        self.step = 'idle'  # idle, encoders, pose, review, check
+        self._press = procedure.EndPiecePress()
+        self._task = ConfigTask(self)
+        self._readings = [(None, math.nan)] * settings.NUM_JOINTS
+        self.instruction = QtWidgets.QLabel('Press Start to calibrate the home angles and signs.')
+        self.instruction.setWordWrap(True)
+        self.instruction.setStyleSheet('font-size: 15px; font-weight: bold;')
+        self.figure = PoseFigure()
+        self.table = QtWidgets.QTableWidget(settings.NUM_JOINTS, len(COLUMNS))
+        self.table.setHorizontalHeaderLabels(COLUMNS)
+        self.table.setVerticalHeaderLabels(['joint %d' % j for j in settings.JOINTS])
+        self.table.horizontalHeader().setStretchLastSection(True)
+        self.message = QtWidgets.QLabel('')
+        self.message.setWordWrap(True)
+        buttons = QtWidgets.QHBoxLayout()
+        self.buttons = {}
+        for name, slot in (('Start', self.start), ('Capture', self.capture),
+                           ('Retake', self.retake), ('Apply', self.apply), ('Undo', self.undo),
+                           ('Check', self.start_check)):
+            button = QtWidgets.QPushButton(name)
+            button.clicked.connect(slot)
+            buttons.addWidget(button)
+            self.buttons[name] = button
+        layout = QtWidgets.QVBoxLayout(self)
+        layout.addWidget(self.instruction)
+        layout.addWidget(self.figure)
+        layout.addLayout(buttons)
+        layout.addWidget(self.table, 1)
+        layout.addWidget(self.message)
+        self._enable()
+
+    # Steps ----------------------------------------------------------------------------------
+    def start(self):
+        """Begin a new run: forget the captures; the encoders step comes first."""
+        self.session, self.changes, self.check = procedure.Session(), None, None
+        self.step = 'encoders'
+        self._say('')
+        self._advance()
+
+    def capture(self):
+        """Capture the pose shown from the latest readings and the stored settings."""
+        if self.step != 'pose':
+            return
+        try:
+            self.session.capture(self._readings, self.client.stored_settings())
+        except procedure.CaptureError as error:
+            self._say(str(error), error=True)
+            return
+        self._say('captured %d of %d' % (len(self.session.raws), len(self.session.poses)))
+        self._advance()
+
+    def retake(self):
+        """Go back one pose (after the last one too, to capture it again)."""
+        if self.step in ('pose', 'review') and self.session.raws:
+            self.session.retake()
+            self.changes, self.step = None, 'pose'
+            self._advance()
+
+    def apply(self):
+        """Store the new values, one set_config per joint, off the GUI thread."""
+        if self.step != 'review' or self._task.busy():
+            return
+        old = {c.joint: c.old for c in self.changes}
+        new = {c.joint: c.new for c in self.changes}
+        self._say('storing the new values…')
+        self._task.start(lambda: procedure.apply_changes(self.client.set_config, new),
+                         lambda applied, error: self._applied(applied, error, 'new', old),
+                         APPLY_TIMEOUT_S)
+        self._enable()
+
+    def undo(self):
+        """Store the old values of the joints the last Apply wrote, in one step."""
+        if not self.undo_values or self._task.busy():
+            return
+        old = dict(self.undo_values)
+        self._say('restoring the old values…')
+        self._task.start(lambda: procedure.apply_changes(self.client.set_config, old),
+                         lambda applied, error: self._applied(applied, error, 'old', None),
+                         APPLY_TIMEOUT_S)
+        self._enable()
+
+    def start_check(self):
+        """Ask for each joint in turn to be moved in Baxter's positive direction."""
+        self.check, self.step = procedure.DirectionCheck(), 'check'
+        self._say('')
+        self._advance()
+
+    def _applied(self, applied, error, which, old):
+        """A store ended: old is {joint: old values} after Apply, None after Undo."""
+        written = applied.written if applied else []
+        if old is None:  # what Undo could not restore stays to undo
+            self.undo_values = {j: v for j, v in self.undo_values.items() if j not in written}
+        else:
+            self.undo_values = {j: old[j] for j in written}
+            if written and self.step == 'review':
+                self.step = 'idle'
+        problem = error or (applied.error if applied else '')
+        if problem:
+            self._say('FAILED: %s. Stored the %s values of joints %s; the others keep what '
+                      'they had.%s' % (problem, which, written or 'none',
+                                       ' Undo restores the written ones.' if written else ''),
+                      error=True)
+        else:
+            self.instruction.setText('Stored. Check tests each joint\'s direction; Undo restores '
+                                     'the old values.' if self.undo_values else 'Restored.')
+            self._say('stored the %s values of joints %s%s' % (
+                which, written, '; Undo restores the old ones' if self.undo_values else ''))
+        self._enable()
+
+    # Frames ---------------------------------------------------------------------------------
+    def refresh(self, snap, now_s):
+        """Take the latest readings; the end-piece button captures while a pose is awaited."""
+        self._readings = [(j.status, j.angle_rad) for j in snap.joints]
+        pressed = self._press.update(snap.grippers[interface.END_PIECE_GRIPPER])
+        if pressed and self.step == 'pose':
+            self.capture()
+        if self.step == 'check' and self.check.update([a for _, a in self._readings]) is not None:
+            self._advance()
+        elif self.step == 'encoders':
+            self._advance()
+        pose = self.session.pose() if self.session and self.step == 'pose' else None
+        self.figure.show_pose(pose.angles_rad if pose else [math.nan] * settings.NUM_JOINTS,
+                              [a for _, a in self._readings])
+        for joint, (_, angle) in enumerate(self._readings):
+            self._cell(joint, 1, number(angle))
+
+    def _advance(self):
+        """Move to the step the state calls for and say what to do."""
+        if self.step == 'encoders':
+            turn = procedure.joints_to_turn(self._readings)
+            if turn:
+                self.instruction.setText('Turn joints %s through their index mark (0 rad) until '
+                                         'they read Working.' % turn)
+            else:
+                self.step = 'pose'
+        if self.step == 'pose':
+            pose = self.session.pose()
+            if pose is None:
+                self._review()
+            else:
+                self.instruction.setText(
+                    'Pose %d of %d, %s: pose the puppet like the blue needles, then press '
+                    'Capture or the end-piece button.' % (len(self.session.raws) + 1,
+                                                          len(self.session.poses), pose.name))
+                for joint, angle in enumerate(pose.angles_rad):
+                    self._cell(joint, 0, number(angle))
+        if self.step == 'check':
+            joint = self.check.joint()
+            for checked, right in self.check.moved_positive.items():
+                self._cell(checked, 7, 'moves the right way' if right else 'MOVES THE WRONG WAY')
+            if joint is not None:
+                self.instruction.setText('Check: move joint %d in Baxter\'s positive direction '
+                                         '(the dial\'s counter-clockwise way).' % joint)
+            else:
+                wrong = self.check.wrong()
+                self.instruction.setText('Check done.')
+                self._say('joints %s move the wrong way: calibrate again' % wrong if wrong
+                          else 'every joint moves the right way', error=bool(wrong))
+                self.step = 'idle'
+        self._enable()
+
+    def _review(self):
+        try:
+            self.changes = self.session.changes(self.client.stored_settings())
+        except (solver.SolveError, TypeError) as error:
+            self._say('cannot solve: %s' % error, error=True)
+            return
+        self.step = 'review'
+        flagged = [c.joint for c in self.changes if c.fit.problem]
+        for c in self.changes:
+            texts = ('%.4f' % c.old['home_angle'], '%.4f' % c.new['home_angle'],
+                     '%+.0f' % c.old['sign_angle'], '%+.0f' % c.new['sign_angle'],
+                     '%.4f' % c.fit.residual_rad, c.fit.problem or 'ok')
+            for column, text in enumerate(texts, start=2):
+                self._cell(c.joint, column, text)
+        self.instruction.setText('Old and new values side by side. ' + (
+            'Joints %s are flagged: Retake their poses or Start again.' % flagged if flagged
+            else 'Apply stores the new values.'))
+
+    # Widgets --------------------------------------------------------------------------------
+    def _cell(self, row, column, text):
+        item = self.table.item(row, column)
+        if item is None:
+            item = QtWidgets.QTableWidgetItem()
+            self.table.setItem(row, column, item)
+        item.setText(text)
+
+    def _enable(self):
+        busy = self._task.busy()
+        flagged = self.changes is None or any(c.fit.problem for c in self.changes)
+        self.buttons['Start'].setEnabled(not busy)
+        self.buttons['Capture'].setEnabled(self.step == 'pose')
+        self.buttons['Retake'].setEnabled(self.step in ('pose', 'review') and not busy
+                                          and bool(self.session and self.session.raws))
+        self.buttons['Apply'].setEnabled(self.step == 'review' and not flagged and not busy)
+        self.buttons['Undo'].setEnabled(bool(self.undo_values) and not busy)
+        self.buttons['Check'].setEnabled(not busy and self.step in ('idle', 'review'))
+
+    def _say(self, text, error=False):
+        self.message.setText(text)
+        paint(self.message, RED if error else GREEN)
