@@ -1,5 +1,7 @@
 #!/usr/bin/python3
-"""rostest: the ghost Baxter shows the simulated puppet's pose, mapped as arm_R maps it."""
+"""rostest: the ghost Baxter shows the simulated puppet's pose, mapped as arm_R maps it; the
+calibration target ghost shows the pose the calibrate command awaits, else the real robot."""
+import subprocess
 import threading
 import unittest
 import xml.etree.ElementTree as ET
@@ -12,6 +14,7 @@ import tf2_ros
 from sensor_msgs.msg import JointState
 
 from robopuppet import baxter_description, interface
+from robopuppet.calibration import procedure
 from teleop_harness import Baxter, PuppetArm, calibrate, max_error, wait_for
 
 # Joint 3 (e1) below Baxter's lower limit -0.05 rad: clamped on both arms.
@@ -38,16 +41,16 @@ def mapped(side, angles, mirrored, limits):
 
 
 class Ghost:
-    """What the ghost node publishes on /ghost/joint_states (names without the prefix)."""
+    """What a ghost node publishes on /<name>/joint_states (names without the prefix)."""
 
-    def __init__(self):
-        self._lock, self.joints = threading.Lock(), {}
-        rospy.Subscriber('/ghost/joint_states', JointState, self._on_states, queue_size=10)
+    def __init__(self, name='ghost'):
+        self._lock, self.joints, self.prefix = threading.Lock(), {}, name + '/'
+        rospy.Subscriber('/%s/joint_states' % name, JointState, self._on_states, queue_size=10)
 
     def _on_states(self, msg):
         with self._lock:
-            self.joints = {n[len('ghost/'):]: p for n, p in zip(msg.name, msg.position)
-                           if n.startswith('ghost/')}
+            self.joints = {n[len(self.prefix):]: p for n, p in zip(msg.name, msg.position)
+                           if n.startswith(self.prefix)}
 
     def arm(self, side):
         with self._lock:
@@ -101,11 +104,56 @@ class GhostSimTest(unittest.TestCase):
             self.assertGreater(np.linalg.norm(tool_point('%s_gripper' % side) - want), 0.05,
                                'the real %s gripper is elsewhere' % side)
 
+        self.check_the_calibration_target(baxter, tf, limits)
+
         # The puppet dies: the ghost stops pretending and takes the real arms' angles.
         rosnode.kill_nodes(['/puppet_sim_R'])
         for side in interface.BAXTER_SIDES:
             wait_for(lambda: max_error(ghost.arm(side), baxter.arm(side)) < 1e-3, 5,
                      'ghost %s arm on the real one' % side)
+
+    def check_the_calibration_target(self, baxter, tf, limits):
+        """The target ghost: on the real robot, then the pose the calibrate command awaits
+        (pose A after a capture of the zero pose; the left arm mirrored), then the real robot
+        again once the command quits."""
+        target = Ghost('target')
+
+        def target_on(want, what):
+            wait_for(lambda: all(target.arm(s) is not None and
+                                 max_error(target.arm(s), want[s]()) < 1e-6
+                                 for s in interface.BAXTER_SIDES), 10,
+                     'target arms on %s (target %s %s)' % (what, target.arm('right'),
+                                                           target.arm('left')))
+        real = {s: (lambda s=s: baxter.arm(s)) for s in interface.BAXTER_SIDES}
+        target_on(real, 'the real robot')
+        command = subprocess.Popen(['rosrun', 'robopuppet', 'calibrate', '--side', 'R'],
+                                   stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                   stderr=subprocess.STDOUT, text=True)
+        self.addCleanup(command.kill)
+        zero = {s: (lambda: [0.0] * 7) for s in interface.BAXTER_SIDES}
+        target_on(zero, "Baxter's zero pose")
+        command.stdin.write('\n')  # capture the zero pose: pose A is awaited next
+        command.stdin.flush()
+        pose_a = procedure.POSES[1].angles_rad
+        target_on({'right': lambda: mapped('right', pose_a, False, limits),
+                   'left': lambda: mapped('left', pose_a, True, limits)}, 'pose A')
+        want = description_transform(target.arm('right'), 'right')
+
+        def gripper():
+            t = tf.lookup_transform('base', 'target/right_gripper', rospy.Time(0),
+                                    rospy.Duration(5)).transform.translation
+            return np.array([t.x, t.y, t.z])
+        wait_for(lambda: np.linalg.norm(gripper() - want) < 1e-3, 10,
+                 'target/right_gripper at %s (tf %s)' % (want, gripper()))
+        output = command.communicate('q\n', timeout=20)[0]
+        self.assertEqual(command.returncode, 1, output)
+        target_on(real, 'the real robot after the command quit')
+
+
+def description_transform(angles, side):
+    """Return where the URDF puts side's gripper (m, in base) at these arm angles (rad)."""
+    positions = dict(zip(baxter_description.arm_joint_names(side), angles))
+    return baxter_description.load().transform(positions, '%s_gripper' % side)[:3, 3]
 
 
 if __name__ == '__main__':

@@ -39,7 +39,11 @@ class FakeArm:
         for joint in settings.JOINTS:
             self.stored[joint].update(WIDE)
         self.refuse_joint = None
+        self.targets = []  # poses published as the calibration target
         self._lock = threading.Lock()
+
+    def publish_target(self, pose):
+        self.targets.append(pose)
 
     def now(self):
         return 0.0
@@ -216,3 +220,24 @@ def test_end_piece_press_has_hysteresis():
     readings = (0.0, 1.0, 0.5, 0.2, 0.1, 0.5, 0.2, 0.8, 0.25, math.nan)
     assert [press.update(r) for r in readings] == [False, False, False, True, False, False,
                                                   False, False, True, False]
+
+
+def test_the_awaited_pose_is_published_as_the_target_and_nothing_otherwise(tab, arm):
+    arm.pose(procedure.POSES[0].angles_rad)
+    tab._tick()
+    assert arm.targets == []  # no calibration running
+    tab.start()
+    for pose in procedure.POSES:
+        arm.pose(pose.angles_rad)
+        frame(tab, arm)
+        tab._tick()
+        assert arm.targets[-1] == pose
+        press_end_piece(tab, arm, pose.angles_rad)
+    assert tab.step == 'review'
+    published = len(arm.targets)
+    tab._tick()
+    assert len(arm.targets) == published
+    assert procedure.target_state('R', procedure.POSES[1]) == (
+        ['right_s0', 'right_s1', 'right_e0', 'right_e1', 'right_w0', 'right_w1', 'right_w2'],
+        [0.5, -0.5, 0.5, 0.5, 0.5, 0.5, 0.5])
+    assert procedure.target_state('L', procedure.POSES[0])[0][0] == 'left_s0'

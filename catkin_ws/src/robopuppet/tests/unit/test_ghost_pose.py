@@ -176,3 +176,27 @@ def test_an_arm_both_puppets_claim_for_a_moment_shows_the_puppet_on_its_side():
     ghost.on_teleop('R', follow_left=True, follow_right=True)
     ghost.on_teleop('L', follow_left=True, follow_right=True)
     assert ghost.sources(1.0) == {'left': 'L', 'right': 'R'}
+
+
+def test_a_calibration_target_is_shown_like_a_puppet_and_dropped_when_it_stops():
+    ghost = make()
+    real = states(ghost, 0.0)
+    names = ['right_%s' % s for s in SUFFIXES]
+    # Baxter's names in any order, with an extra joint: mapped by name.
+    order = [6, 0, 5, 1, 4, 2, 3]
+    assert ghost.on_target(1.0, 'R', [names[k] for k in order] + ['head_pan'],
+                           [POSE_R[k] for k in order] + [9.0]) == ''
+    shown = states(ghost, 1.2)
+    for name, angle in {**expected('right', POSE_R, False),
+                        **expected('left', POSE_R, True)}.items():
+        assert shown[name] == pytest.approx(angle, abs=1e-12)
+    assert shown['ghost/head_pan'] == real['ghost/head_pan']
+    assert states(ghost, 1.0 + TIMEOUT_S + 0.01) == real  # no target repeated: the real robot
+
+
+def test_a_target_without_its_arm_s_names_is_refused():
+    ghost = make()
+    left_names = ['left_%s' % s for s in SUFFIXES]
+    assert 'ignored' in ghost.on_target(1.0, 'R', left_names, POSE_L)  # R needs right_*
+    assert 'ignored' in ghost.on_target(1.0, 'L', left_names, POSE_L[:6])
+    assert ghost.sources(1.0) == {'left': REAL, 'right': REAL}

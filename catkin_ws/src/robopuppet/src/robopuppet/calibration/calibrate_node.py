@@ -3,14 +3,17 @@
 Prompts for each pose of procedure.POSES (capture on Enter, 'r' takes the previous pose again,
 'q' quits), solves, shows old and new values with each joint's residual, and stores them with
 set_config after a 'y' (or at once with --yes; with --dry-run never). Lines may come from a
-pipe, for scripts: `printf '\n\n\n\n' | rosrun robopuppet calibrate --side R --yes`.
-Exit status: 0 stored (or dry run), 1 quit or no puppet, 2 a joint flagged, 3 a store failed.
+pipe, for scripts (tests/integration/test_calibration_command.py), each Enter sent once the
+puppet is posed. While a pose is awaited it is published for RViz's calibration target ghost.
+Exit status: 0 stored (or dry run), 1 quit, Ctrl-C or no puppet, 2 a joint flagged, 3 a store
+failed.
 """
 import argparse
 import sys
 import threading
 
 import rospy
+from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32, String
 
 from robopuppet import interface, settings
@@ -26,13 +29,20 @@ class ArmReader:
 
     Subscribes (under /puppet/arm_<side>): joint_J/enc_stat, joint_J/angle, stored_settings.
     Calls: set_config (robopuppet_msgs/SetConfig).
+    Publishes: calibration_target (sensor_msgs/JointState, procedure.TARGET_TOPIC) at
+        procedure.TARGET_RATE_HZ while show_target has a pose, nothing otherwise.
     """
 
     def __init__(self, side):
         self._lock = threading.Lock()
         self._readings = [(None, float('nan'))] * settings.NUM_JOINTS
         self._stored = None
+        self._side, self._target = side, None
         ns = interface.puppet_ns(side)
+        self._target_pub = rospy.Publisher('%s/%s' % (ns, procedure.TARGET_TOPIC), JointState,
+                                           queue_size=1)
+        self._timer = rospy.Timer(rospy.Duration(1.0 / procedure.TARGET_RATE_HZ),
+                                  self._publish_target)
         self._subs = [rospy.Subscriber('%s/%s' % (ns, interface.STORED_SETTINGS), ArmSettings,
                                        self._on_stored, queue_size=1)]
         for joint in settings.JOINTS:
@@ -55,6 +65,19 @@ class ArmReader:
             reading[field] = msg.data
             self._readings[joint] = tuple(reading)
 
+    def show_target(self, pose):
+        """Publish a procedure.Pose as the calibration target from now on (None: stop)."""
+        with self._lock:
+            self._target = pose
+
+    def _publish_target(self, _event):
+        with self._lock:
+            pose = self._target
+        if pose is not None:
+            names, positions = procedure.target_state(self._side, pose)
+            self._target_pub.publish(JointState(name=names, position=positions,
+                                                header=rospy.Header(stamp=rospy.Time.now())))
+
     def readings(self):
         """Return (status, angle rad) per joint and the stored settings (None before any)."""
         with self._lock:
@@ -74,17 +97,8 @@ def ask(prompt):
     try:
         return input(prompt).strip().lower()
     except EOFError:
+        print()
         return 'q'
-
-
-def table(changes):
-    """Return the old and new values of each joint, its residual and any problem, as text."""
-    lines = ['joint  home_angle old -> new (rad)  sign_angle old -> new  residual (rad)']
-    for c in changes:
-        lines.append('%5d  %8.4f -> %8.4f  %+4.0f -> %+4.0f  %8.4f  %s' % (
-            c.joint, c.old['home_angle'], c.new['home_angle'], c.old['sign_angle'],
-            c.new['sign_angle'], c.fit.residual_rad, c.fit.problem))
-    return '\n'.join(lines)
 
 
 def run(reader, assume_yes, dry_run):
@@ -104,6 +118,7 @@ def run(reader, assume_yes, dry_run):
     session = procedure.Session()
     while session.pose() is not None:
         pose = session.pose()
+        reader.show_target(pose)
         print('Pose %d of %d, %s (rad): %s' % (len(session.raws) + 1, len(session.poses),
                                               pose.name, ' '.join('%+.2f' % a
                                                                   for a in pose.angles_rad)))
@@ -118,8 +133,9 @@ def run(reader, assume_yes, dry_run):
             session.capture(*reader.readings())
         except procedure.CaptureError as error:
             print(error)
+    reader.show_target(None)
     changes = session.changes(reader.readings()[1])
-    print(table(changes))
+    print(procedure.changes_table(changes))
     if any(c.fit.problem for c in changes):
         print('Nothing stored: capture the flagged poses again.')
         return 2
@@ -143,4 +159,10 @@ def main(argv=None):
     parser.add_argument('--dry-run', action='store_true', help='solve and show, store nothing')
     args = parser.parse_args(rospy.myargv(sys.argv if argv is None else argv)[1:])
     rospy.init_node('calibrate_%s' % args.side, anonymous=True, disable_signals=True)
-    sys.exit(run(ArmReader(args.side), args.yes, args.dry_run))
+    try:
+        status = run(ArmReader(args.side), args.yes, args.dry_run)
+    except KeyboardInterrupt:
+        print('\ninterrupted: nothing more stored')
+        status = 1
+    rospy.signal_shutdown('calibrate done')
+    sys.exit(status)

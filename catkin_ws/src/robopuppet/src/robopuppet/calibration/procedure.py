@@ -9,11 +9,14 @@ Steps: every quadrature joint Working (joints_to_turn), then one capture per pos
 settings), then solve (solver.solve) and the old and new values side by side (Session.changes),
 then apply_changes (one all-or-none set_config per joint), and undo with the old values.
 DirectionCheck then asks for each joint to be moved in Baxter's positive direction.
+
+While a pose is awaited, the wizard and the command publish it on TARGET_TOPIC (target_state)
+for the calibration target ghost in RViz (ghost/, docs/ghost.md).
 """
 import collections
 import math
 
-from robopuppet import interface, settings
+from robopuppet import baxter_description, interface, settings
 from robopuppet.calibration import solver
 
 QUAD_JOINTS = (0, 2, 4, 6)  # quadrature encoders: Uncalibrated until turned through 0 rad
@@ -30,6 +33,11 @@ POSES = (
     Pose('pose B', (-0.5, 0.5, -0.5, 0.5, -0.5, -0.5, -0.5)),
 )
 
+# Relative to interface.puppet_ns(side): sensor_msgs/JointState, the pose awaited as Baxter's
+# joint names and angles (rad) of the arm on the puppet's side; nothing while none is awaited.
+TARGET_TOPIC = 'calibration_target'
+TARGET_RATE_HZ = 10.0  # the target ghost drops a target not repeated within 0.5 s
+
 Change = collections.namedtuple('Change', 'joint old new fit')
 Change.__doc__ = """One joint's calibration: old and new {'home_angle', 'sign_angle'} and the
 solver.JointFit behind new."""
@@ -45,6 +53,13 @@ class CaptureError(ValueError):
 def joints_to_turn(readings):
     """Return the quadrature joints that are not Working (to turn through their index mark)."""
     return [j for j in QUAD_JOINTS if readings[j][0] != interface.WORKING]
+
+
+def target_state(side, pose):
+    """Return (names, positions) of TARGET_TOPIC for a Pose on puppet side: Baxter's joint
+    names of the arm that copies that puppet arm, and the pose's angles (rad)."""
+    return (baxter_description.arm_joint_names(interface.BAXTER_SIDE[interface.check_side(side)]),
+            list(pose.angles_rad))
 
 
 def raw_angles(readings, stored):
@@ -107,6 +122,16 @@ class Session:
         return [Change(fit.joint, {n: stored[fit.joint][n] for n in CALIBRATED},
                        {'home_angle': fit.home_angle, 'sign_angle': fit.sign_angle}, fit)
                 for fit in self.fits()]
+
+
+def changes_table(changes):
+    """Return the old and new values of each joint, its residual and any problem, as text."""
+    lines = ['joint  home_angle old -> new (rad)  sign_angle old -> new  residual (rad)']
+    for c in changes:
+        lines.append('%5d  %8.4f -> %8.4f  %+4.0f -> %+4.0f  %8.4f  %s' % (
+            c.joint, c.old['home_angle'], c.new['home_angle'], c.old['sign_angle'],
+            c.new['sign_angle'], c.fit.residual_rad, c.fit.problem))
+    return '\n'.join(lines)
 
 
 def apply_changes(set_config, values):

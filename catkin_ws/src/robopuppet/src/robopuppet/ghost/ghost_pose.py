@@ -13,6 +13,10 @@ joints has sent a finite angle; a non-finite angle leaves that joint at its last
 arm/ does. An arm without a live puppet does not pretend: it takes the real arm's angles, so the
 ghost arm sinks into the real one. Joints no puppet drives (head, torso, grippers) take the real
 robot's values. Joints whose value is unknown (no /robot/joint_states yet) are left out.
+
+The calibration target ghost uses the same rules with the calibration wizard's targets in place
+of the puppets' angles (on_target): a target counts as live while it keeps coming, so the target
+ghost sinks into the real robot when no calibration runs.
 """
 import math
 
@@ -20,6 +24,7 @@ from robopuppet.arm.joint_motion import clamp, mirror
 from robopuppet.arm.readings import joint_angles
 from robopuppet.baxter_description import arm_joint_names
 from robopuppet.interface import BAXTER_SIDE, BAXTER_SIDES, PUPPET_SIDES
+from robopuppet.settings import JOINT_NAMES
 
 REAL = 'real'  # source of an arm without a live puppet
 
@@ -63,6 +68,17 @@ class GhostPose:
                 bad.append(j)
         return ('puppet %s joint_states: non-finite joint %s keeps its last finite angle'
                 % (side, ', '.join(map(str, bad)))) if bad else ''
+
+    def on_target(self, t, side, names, positions):
+        """Take puppet side's calibration target at time t (s): Baxter's joint names of the arm
+        on that side (e.g. right_s0..right_w2 for R) and their angles (rad), taken as that
+        puppet's angles; returns '' or a warning like on_puppet."""
+        arm_names = arm_joint_names(BAXTER_SIDE[side])
+        if len(names) != len(positions) or not set(arm_names) <= set(names):
+            return ('calibration target %s ignored: needs %s with one position each, got %s'
+                    % (side, ', '.join(arm_names), list(names)))
+        by_name = dict(zip(names, positions))
+        return self.on_puppet(t, side, JOINT_NAMES, [by_name[n] for n in arm_names])
 
     def on_teleop(self, side, follow_left, follow_right):
         """Take puppet side's teleop_state: which Baxter arms follow it."""

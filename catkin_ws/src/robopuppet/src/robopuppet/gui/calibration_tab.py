@@ -5,14 +5,22 @@ and says which to turn; then, for each pose, the figure shows it and Capture (or
 end-piece button while this tab is shown) captures it; then the table shows old and new values
 and each joint's residual; Apply stores them (one set_config per joint, off the GUI thread);
 Undo stores the old values of the joints Apply wrote; Check asks for each joint to be moved in
-Baxter's positive direction and names the joints that move the wrong way.
+Baxter's positive direction and names the joints that move the wrong way; Motors checks each
+joint's sign_motor in hold at a safe voltage (calibration.motor_check), Stop ends it, and Flip
+corrects the joints whose motor pushes the wrong way.
+
+While a pose is awaited, a timer (procedure.TARGET_RATE_HZ, whichever tab is shown) publishes it
+as the calibration target for RViz; the same timer runs the motor check. If the window closes
+during the motor check, the puppet goes limp and the stored voltage limits are restored before
+the window goes (when ROS is shut down already, they cannot be: they are printed on stderr).
 """
 import math
+import sys
 
-from PyQt5 import QtWidgets
+from PyQt5 import QtCore, QtWidgets
 
 from robopuppet import interface, settings
-from robopuppet.calibration import procedure, solver
+from robopuppet.calibration import motor_check, procedure, solver
 from robopuppet.gui.config_task import ConfigTask
 from robopuppet.gui.main_tab import GREEN, RED, number, paint
 from robopuppet.gui.pose_figure import PoseFigure
@@ -23,8 +31,9 @@ COLUMNS = ('target', 'reported', 'home old', 'home new', 'sign old', 'sign new',
 
 
 class CalibrationTab(QtWidgets.QWidget):
-    """The wizard for one arm. `client`: a PuppetClient (or a double with .state,
-    .stored_settings() and .set_config(joint, values))."""
+    """The wizard for one arm. `client`: a PuppetClient (or a double with .state, .now(),
+    .stored_settings(), .set_config(joint, values), .publish_target(pose), .set_opmode(opmode)
+    and .set_setpoint(joint, angle_rad))."""
 
     def __init__(self, client, parent=None):
         super().__init__(parent)
@@ -33,7 +42,8 @@ class CalibrationTab(QtWidgets.QWidget):
         self.changes = None  # [procedure.Change] once every pose is captured
         self.undo_values = {}  # {joint: old values} of the joints the last Apply wrote
         self.check = None  # a procedure.DirectionCheck while checking
-        self.step = 'idle'  # idle, encoders, pose, review, check
+        self.motors = None  # the latest motor_check.MotorCheck
+        self.step = 'idle'  # idle, encoders, pose, review, check, motors
         self._press = procedure.EndPiecePress()
         self._task = ConfigTask(self)
         self._readings = [(None, math.nan)] * settings.NUM_JOINTS
@@ -51,7 +61,8 @@ class CalibrationTab(QtWidgets.QWidget):
         self.buttons = {}
         for name, slot in (('Start', self.start), ('Capture', self.capture),
                            ('Retake', self.retake), ('Apply', self.apply), ('Undo', self.undo),
-                           ('Check', self.start_check)):
+                           ('Check', self.start_check), ('Motors', self.start_motors),
+                           ('Stop', self.stop_motors), ('Flip', self.flip)):
             button = QtWidgets.QPushButton(name)
             button.clicked.connect(slot)
             buttons.addWidget(button)
@@ -62,11 +73,17 @@ class CalibrationTab(QtWidgets.QWidget):
         layout.addLayout(buttons)
         layout.addWidget(self.table, 1)
         layout.addWidget(self.message)
+        self._timer = QtCore.QTimer(self)
+        self._timer.timeout.connect(self._tick)
+        self._timer.start(int(1000.0 / procedure.TARGET_RATE_HZ))
+        QtWidgets.QApplication.instance().aboutToQuit.connect(self._on_quit)
         self._enable()
 
     # Steps ----------------------------------------------------------------------------------
     def start(self):
         """Begin a new run: forget the captures; the encoders step comes first."""
+        if self.step == 'motors':
+            return
         self.session, self.changes, self.check = procedure.Session(), None, None
         self.step = 'encoders'
         self._say('')
@@ -105,7 +122,7 @@ class CalibrationTab(QtWidgets.QWidget):
 
     def undo(self):
         """Store the old values of the joints the last Apply wrote, in one step."""
-        if not self.undo_values or self._task.busy():
+        if not self.undo_values or self._task.busy() or self.step == 'motors':
             return
         old = dict(self.undo_values)
         self._say('restoring the old values…')
@@ -116,9 +133,100 @@ class CalibrationTab(QtWidgets.QWidget):
 
     def start_check(self):
         """Ask for each joint in turn to be moved in Baxter's positive direction."""
+        if self.step == 'motors':
+            return
         self.check, self.step = procedure.DirectionCheck(), 'check'
         self._say('')
         self._advance()
+
+    def start_motors(self):
+        """Check each joint's sign_motor in hold, limited to motor_check.SAFE_VOLTAGE_V."""
+        stored = self.client.stored_settings()
+        if self._task.busy() or self.step not in ('idle', 'review') or stored is None:
+            return
+        self.motors, self.step = motor_check.MotorCheck(stored), 'motors'
+        self._say('')
+        self.client.set_opmode(interface.LIMP)
+        self._do(self.motors.start())
+
+    def stop_motors(self):
+        """Stop the motor check: limp now, then restore the stored voltage limits."""
+        if self.step == 'motors' and self.motors.phase not in ('restore', 'done'):
+            self._do(self.motors.cancel())
+
+    def flip(self):
+        """Store the flipped sign_motor of the joints the motor check found wrong."""
+        if self.motors is None or not self.motors.wrong() or self._task.busy():
+            return
+        wrong = self.motors.wrong()
+        old = {j: {'sign_motor': self.motors.signs[j]} for j in wrong}
+        self._say('flipping sign_motor of joints %s…' % wrong)
+        self._task.start(lambda: procedure.apply_changes(self.client.set_config,
+                                                         self.motors.flips(wrong)),
+                         lambda applied, error: self._applied(applied, error, 'flipped', old),
+                         APPLY_TIMEOUT_S)
+        self.motors = None
+        self._enable()
+
+    def _tick(self):
+        """Publish the awaited pose as the target; run the motor check between stores."""
+        if self.step == 'pose' and self.session.pose() is not None:
+            self.client.publish_target(self.session.pose())
+        if self.step == 'motors' and not self._task.busy():
+            joints = self.client.state.snapshot().joints
+            self._do(self.motors.update(self.client.now(), [j.angle_rad for j in joints],
+                                        [j.voltage_v for j in joints]))
+
+    def _do(self, command):
+        """Do a motor_check.Command."""
+        if command.kind in ('limp', 'hold'):
+            self.client.set_opmode(command.kind)
+        elif command.kind == 'setpoint':
+            self.client.set_setpoint(command.joint, command.values)
+        elif command.kind == 'store':
+            self._task.start(
+                lambda: procedure.apply_changes(self.client.set_config, command.values),
+                self._motors_stored, APPLY_TIMEOUT_S)
+        self._show_motors()
+
+    def _motors_stored(self, applied, error):
+        problem = error or (applied.error if applied else '')
+        self._do(self.motors.stored(self.client.now(), problem))
+
+    def _show_motors(self):
+        motors, joint = self.motors, self.motors.joint()
+        for checked, result in motors.results.items():
+            self._cell(checked, 7, 'motor: %s' % result)
+        if joint is not None:
+            self.instruction.setText(
+                'Motors: let the arm hang down and hold it, but let joint %d move freely: in '
+                'hold at %.1f V at most, its setpoint moves %+.1f rad.' % (
+                    joint, motor_check.SAFE_VOLTAGE_V, motor_check.STEP_RAD))
+        elif motors.phase == 'restore':
+            self.instruction.setText('Motors: restoring the stored voltage limits…')
+        elif motors.phase == 'done':
+            self.step = 'idle'
+            if 'restoring' in motors.error:  # Undo tries again
+                self.undo_values = {j: dict(self.undo_values.get(j, {}), **v)
+                                    for j, v in motors.restore_values().items()}
+            wrong = motors.wrong()
+            self.instruction.setText('Motor check done.' + (
+                ' Flip stores the flipped sign_motor of joints %s.' % wrong if wrong else ''))
+            self._say('%s%s' % ('STOPPED: %s. ' % motors.error if motors.error else '',
+                                'sign_motor wrong on joints %s' % wrong if wrong else
+                                'results: %s' % motors.results),
+                      error=bool(motors.error or wrong))
+        self._enable()
+
+    def _on_quit(self):
+        """The application ends: never leave the puppet in hold at the check's limits."""
+        if self.motors is None or self.motors.phase == 'done':
+            return
+        self.client.set_opmode(interface.LIMP)
+        applied = procedure.apply_changes(self.client.set_config, self.motors.restore_values())
+        if applied.error:
+            sys.stderr.write('calibration: restoring the voltage limits failed (%s); set them '
+                             'again: %s\n' % (applied.error, self.motors.restore_values()))
 
     def _applied(self, applied, error, which, old):
         """A store ended: old is {joint: old values} after Apply, None after Undo."""
@@ -223,13 +331,18 @@ class CalibrationTab(QtWidgets.QWidget):
     def _enable(self):
         busy = self._task.busy()
         flagged = self.changes is None or any(c.fit.problem for c in self.changes)
-        self.buttons['Start'].setEnabled(not busy)
+        self.buttons['Start'].setEnabled(not busy and self.step != 'motors')
         self.buttons['Capture'].setEnabled(self.step == 'pose')
         self.buttons['Retake'].setEnabled(self.step in ('pose', 'review') and not busy
                                           and bool(self.session and self.session.raws))
         self.buttons['Apply'].setEnabled(self.step == 'review' and not flagged and not busy)
-        self.buttons['Undo'].setEnabled(bool(self.undo_values) and not busy)
+        self.buttons['Undo'].setEnabled(bool(self.undo_values) and not busy
+                                        and self.step != 'motors')
         self.buttons['Check'].setEnabled(not busy and self.step in ('idle', 'review'))
+        self.buttons['Motors'].setEnabled(not busy and self.step in ('idle', 'review'))
+        self.buttons['Stop'].setEnabled(self.step == 'motors')
+        self.buttons['Flip'].setEnabled(not busy and self.step == 'idle' and
+                                        bool(self.motors and self.motors.wrong()))
 
     def _say(self, text, error=False):
         self.message.setText(text)
