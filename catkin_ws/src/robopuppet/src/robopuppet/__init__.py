@@ -20,15 +20,19 @@ Data flows from the puppet to Baxter:
 |               | steps and the terminal command calibrate (calibrate_node)   |                 |
 | gui/          | gui_X: the Qt window and its ROS client                     | tables, config, |
 |               |                                                             | puppet_sim,     |
-|               |                                                             | calibration     |
+|               |                                                             | calibration,    |
+|               |                                                             | episodes        |
 | ghost/        | ghost: the puppet's pose on a second, translucent Baxter    | tables, arm     |
+| episodes/     | recorder: demonstration episodes as rosbags (what, when,    | tables, arm     |
+|               | names, metadata, disk rule, the episode's files, repair);   | (the exporter)  |
+|               | the exporter of episodes                                    |                 |
 
 The subsystems meet only through ROS topics and services named in interface.py (settings reach
 serial_X as config_X's stored_settings, not as an import); puppet_sim/ shares protocol/'s codec
 because it speaks the same wire, and gui/ uses config/'s form checks, puppet_sim/'s rest
-pose for its virtual puppet and calibration/'s steps for its wizard. ghost/ maps the puppet's
-angles with arm/'s pure joint_motion and readings, so that the ghost shows exactly what arm_X
-would command.
+pose for its virtual puppet, calibration/'s steps for its wizard and episodes/' status line.
+ghost/ maps the puppet's angles with arm/'s pure joint_motion and readings, so that the ghost
+shows exactly what arm_X would command.
 
 Within a folder the node adapter (`*_node.py`) is the only module that talks to ROS (besides
 gui.puppet_client, the GUI's ROS client); the others are pure (no rospy, no Qt outside

@@ -47,6 +47,9 @@ class FakeClient:
     def set_setpoint(self, joint, angle_rad):
         self.published.append(('setpoint', joint, angle_rad))
 
+    def recording_status(self):
+        return None  # no recorder: test_episodes_gui.py tests the Recording box
+
     def _reach(self):
         if self.answer is not None:
             self.answer.wait(5.0)

@@ -8,18 +8,20 @@ import pytest
 import roslaunch.config
 
 from robopuppet import interface
+from robopuppet.calibration import procedure
 
 LAUNCH_DIR = os.path.join(os.path.dirname(__file__), '..', '..', 'launch')
 TEST_DIR = os.path.join(os.path.dirname(__file__), '..', 'integration')
 LAUNCH = os.path.join(LAUNCH_DIR, 'arm.launch')
 LAUNCH_FILES = ('arm.launch', 'puppet.launch', 'main_sim.launch', 'baxter_sim.launch',
-                'ghost.launch', 'display_real.launch')
+                'ghost.launch', 'display_real.launch', 'recorder.launch')
 # The seed's Table 5 defaults, but frame_rate: 30 Hz (pyqtgraph) where the 2020 Tk GUI used 8.
 TABLE_5 = {'arm_side': 'L', 'port_name': '/dev/ttyACM0', 'comm_rate': '10.0',
            'frame_rate': '30.0', 'debug_mode': 'true'}
 # An argument that an including file declares again, with a default of its own on purpose.
 OVERRIDES = {('main_sim.launch', 'run_side_L'): 'the simulated system runs the right arm only',
-             ('puppet.launch', 'gui'): 'arm.launch alone opens no GUI; puppet.launch one per arm'}
+             ('puppet.launch', 'gui'): 'arm.launch alone opens no GUI; puppet.launch one per arm',
+             ('main_sim.launch', 'record_sides'): 'the simulated system records the arms it runs'}
 
 
 def load_config(*args, launch=LAUNCH):
@@ -152,8 +154,22 @@ def test_main_sim_runs_the_right_arm_on_simulated_hardware_by_default():
     nodes, params = load('rviz:=false', 'gui:=false',
                          launch=os.path.join(LAUNCH_DIR, 'main_sim.launch'))
     assert {'baxter_sim', 'robot_state_publisher', 'config_R', 'serial_R', 'puppet_sim_R',
-            'arm_R', 'ghost'} == set(nodes)
+            'arm_R', 'ghost', 'recorder'} == set(nodes)
     assert params['/serial_R/port_name'] == params['/puppet_sim_R/port_link']
+
+
+@pytest.mark.parametrize('launch, args, sides, sim', [
+    ('main_sim.launch', [], 'R', True),
+    ('main_sim.launch', ['run_side_L:=true'], 'LR', True),
+    ('main_sim.launch', ['run_side_L:=true', 'record_sides:=L'], 'L', True),
+    ('recorder.launch', [], 'LR', False),
+])
+def test_the_recorder_records_the_arms_that_run(launch, args, sides, sim):
+    nodes, params = load('rviz:=false', 'gui:=false', 'episodes_dir:=/tmp/ep', *args,
+                         launch=os.path.join(LAUNCH_DIR, launch))
+    assert nodes['recorder'].type == 'recorder'
+    assert params['/recorder/sides'] == sides and params['/recorder/sim'] is sim
+    assert params['/recorder/episodes_dir'] == '/tmp/ep'
 
 
 @pytest.mark.parametrize('launch', ['main_sim.launch', 'display_real.launch'])
@@ -164,6 +180,13 @@ def test_the_ghost_has_a_prefixed_description_and_its_own_state_publisher(launch
     ghost = ET.fromstring(config.params['/ghost/robot_description'].value)
     assert ghost.find('link').get('name').startswith('ghost/')
     assert config.params['/ghost/ghost/prefix'].value == 'ghost/'
+    assert '/ghost/ghost/target_topic' not in config.params  # the puppet's ghost
+    # The calibration target ghost: its own description, state publisher and topic.
+    assert ('/target/', 'robot_state_publisher') in nodes and ('/target/', 'ghost') in nodes
+    target = ET.fromstring(config.params['/target/robot_description'].value)
+    assert target.find('link').get('name').startswith('target/')
+    assert config.params['/target/ghost/prefix'].value == 'target/'
+    assert config.params['/target/ghost/target_topic'].value == procedure.TARGET_TOPIC
     if launch == 'display_real.launch':  # the real robot publishes its own description
         assert '/robot_description' not in config.params
         assert 'real_robot.rviz' in nodes[('/', 'rviz')].args

@@ -20,8 +20,9 @@ LAYERS = {
     'arm': set(),
     'puppet_sim': {'protocol'},
     'calibration': set(),
-    'gui': {'calibration', 'config', 'puppet_sim'},
+    'gui': {'calibration', 'config', 'episodes', 'puppet_sim'},
     'ghost': {'arm'},
+    'episodes': {'arm'},
 }
 # The modules that may talk to ROS: the node adapters (named *_node; only the executables in
 # nodes/ import them) and the adapters they use.
@@ -29,6 +30,7 @@ ADAPTERS = {
     'config.config_node', 'protocol.serial_node', 'arm.arm_node',
     'puppet_sim.puppet_sim_node', 'baxter_sim.baxter_sim_node', 'gui.gui_node',
     'gui.puppet_client', 'ghost.ghost_node', 'calibration.calibrate_node',
+    'episodes.export_files', 'episodes.recorder_node', 'episodes.episode_files',
 }
 # The GUI's widgets are Qt by nature; they may import Qt but not rospy.
 QT_MODULES_OK = 'gui'

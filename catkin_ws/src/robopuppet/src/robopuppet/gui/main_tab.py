@@ -1,10 +1,12 @@
-"""The main tab: heartbeat, opmode, joint and gripper table, buttons, teleop state, serial link."""
+"""The main tab: heartbeat, opmode, joint and gripper table, buttons, teleop state, serial link,
+recording."""
 import math
 
 from PyQt5 import QtCore, QtGui, QtWidgets
 
 from robopuppet import interface, settings
 from robopuppet.gui import state
+from robopuppet.gui.recording_box import RecordingBox
 
 LINK_STALE_S = 5.0       # diagnostics older than this are shown as not updating
 
@@ -65,6 +67,8 @@ class MainTab(QtWidgets.QWidget):
         layout.addLayout(top)
         layout.addLayout(tables)
         layout.addWidget(self._group('Serial link (/diagnostics)', self.link_label))
+        self.recording_box = RecordingBox(client)
+        layout.addWidget(self.recording_box)
         layout.addStretch(1)
 
     @staticmethod
@@ -122,6 +126,7 @@ class MainTab(QtWidgets.QWidget):
             self.gripper_table.item(row, 0).setText(number(reading))
         self._show_teleop(snap.teleop)
         self._show_link(snap.link, now_s)
+        self.recording_box.refresh()
 
     def _show_teleop(self, teleop):
         if teleop is None:

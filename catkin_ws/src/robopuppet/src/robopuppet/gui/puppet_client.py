@@ -13,9 +13,11 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Empty, Float32, Float32MultiArray, String, UInt8
 
 from robopuppet import interface, settings
+from robopuppet.calibration import procedure
+from robopuppet.episodes import recording
 from robopuppet.gui import state
-from robopuppet_msgs.msg import ArmSettings, TeleopState
-from robopuppet_msgs.srv import GetConfig, SetConfig
+from robopuppet_msgs.msg import ArmSettings, RecordingState, TeleopState
+from robopuppet_msgs.srv import GetConfig, Record, SetConfig
 
 # Incoming messages each subscriber keeps when its callback falls behind (older ones are
 # dropped); /diagnostics carries every node's statuses, so it keeps more.
@@ -30,6 +32,11 @@ SetAnswer.__doc__ = """The config node's answer to set_config: stored (bool), er
 
 class ConfigUnavailable(RuntimeError):
     """get_config or set_config did not answer (config node not running, or the call failed)."""
+
+
+RecordAnswer = collections.namedtuple('RecordAnswer', 'ok error episode')
+RecordAnswer.__doc__ = """The recorder's answer to /puppet/record: ok (bool), error (why not, or
+''), episode (the episode's bag file)."""
 
 
 def is_link_status(status, ns):
@@ -48,9 +55,12 @@ class PuppetClient:
         gripper_G, joint_J/{enc_stat,angle,voltage,setpoint}, stored_settings (kept for
         stored_settings()); and /diagnostics, keeping the serial link's status of this arm
         (is_link_status).
-    Publishes: <ns>/opmode (std_msgs/String), <ns>/joint_J/setpoint (std_msgs/Float32).
+    Publishes: <ns>/opmode (std_msgs/String), <ns>/joint_J/setpoint (std_msgs/Float32),
+        <ns>/calibration_target (sensor_msgs/JointState, procedure.TARGET_TOPIC).
     Calls: <ns>/get_config (robopuppet_msgs/GetConfig), <ns>/set_config
         (robopuppet_msgs/SetConfig).
+    Recording: subscribes /puppet/recording (robopuppet_msgs/RecordingState, kept for
+        recording_status()) and calls /puppet/record (robopuppet_msgs/Record).
     """
 
     def __init__(self, side, arm_state, clock=rospy.get_time):
@@ -75,6 +85,7 @@ class PuppetClient:
             sub(interface.DIAGNOSTICS, DiagnosticArray, self._on_diagnostics,
                 queue_size=DIAGNOSTICS_QUEUE_SIZE),
             sub(topic(interface.STORED_SETTINGS), ArmSettings, self._on_stored, queue_size=1),
+            sub(recording.RECORDING_TOPIC, RecordingState, self._on_recording, queue_size=1),
         ]
         for gripper in range(interface.NUM_GRIPPERS):
             self._subscribers.append(sub(interface.gripper_topic(side, gripper), Float32,
@@ -90,8 +101,12 @@ class PuppetClient:
         self._setpoint_pubs = [rospy.Publisher(interface.joint_topic(side, joint, 'setpoint'),
                                                Float32, queue_size=1)
                                for joint in settings.JOINTS]
+        self._target_pub = rospy.Publisher(topic(procedure.TARGET_TOPIC), JointState,
+                                           queue_size=1)
         self._get_config = rospy.ServiceProxy(topic(interface.GET_CONFIG), GetConfig)
         self._set_config = rospy.ServiceProxy(topic(interface.SET_CONFIG), SetConfig)
+        self._record = rospy.ServiceProxy(recording.RECORD_SERVICE, Record)
+        self._recording = None
 
     def now(self):
         """Return the current ROS time in s (the time base of the ArmState)."""
@@ -114,6 +129,12 @@ class PuppetClient:
     def set_setpoint(self, joint, angle_rad):
         """Publish a joint's setpoint (rad; used by the puppet in hold mode)."""
         self._setpoint_pubs[joint].publish(Float32(angle_rad))
+
+    def publish_target(self, pose):
+        """Publish a procedure.Pose as the calibration target (Baxter's names and rad)."""
+        names, positions = procedure.target_state(self.side, pose)
+        self._target_pub.publish(JointState(name=names, position=positions,
+                                            header=rospy.Header(stamp=rospy.Time.now())))
 
     def get_config(self, joint, timeout_s=1.0):
         """Return the stored {name: value} of a joint. Blocks: call it off the GUI thread.
@@ -145,6 +166,32 @@ class PuppetClient:
         """Return config_X's latest stored_settings as {joint: {name: value}}, or None."""
         with self._stored_lock:
             return self._stored
+
+    def record(self, start, notes='', timeout_s=1.0):
+        """Ask the recorder to start (start True) or stop an episode; return a RecordAnswer.
+
+        Blocks like get_config: call it off the GUI thread.
+
+        Raises:
+            ConfigUnavailable: the recorder is not there within timeout_s or the call failed.
+        """
+        try:
+            self._record.wait_for_service(timeout_s)
+            response = self._record(start, notes)
+        except (rospy.ROSException, rospy.ServiceException) as error:
+            raise ConfigUnavailable('%s: %s' % (recording.RECORD_SERVICE, error)) from None
+        return RecordAnswer(response.ok, response.error, response.episode)
+
+    def recording_status(self):
+        """Return the recorder's latest recording.Status, or None before the first."""
+        with self._stored_lock:
+            return self._recording
+
+    def _on_recording(self, msg):
+        status = recording.Status(msg.recording, msg.episode, msg.duration_s, msg.size_bytes,
+                                  msg.messages, msg.problem)
+        with self._stored_lock:
+            self._recording = status
 
     def _on_stored(self, msg):
         stored = {j.joint: {name: getattr(j, name) for name in settings.NAMES}

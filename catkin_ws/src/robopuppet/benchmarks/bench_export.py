@@ -1,0 +1,145 @@
+#!/usr/bin/python3
+"""Benchmark: export time per minute of episode.
+
+Builds a synthetic 1-minute episode at the real system's rates (Baxter's joint and gripper
+states at 100 Hz, the right arm's commands at 50 Hz, puppet R's joint states and four grippers
+at 10 Hz, diagnostics at 1 Hz), then times each stage of the export and prints the figures.
+
+    python3 benchmarks/bench_export.py [--minutes 1] [--repeat 3] [--keep DIR]
+
+--keep DIR leaves the episode and its outputs (.hdf5, .csv, .png) in DIR to look at.
+"""
+import argparse
+import math
+import os
+import shutil
+import tempfile
+import time
+
+import genpy
+import rosbag
+import yaml
+from baxter_core_msgs.msg import EndEffectorCommand, EndEffectorState, JointCommand
+from diagnostic_msgs.msg import DiagnosticArray
+from robopuppet_msgs.msg import TeleopState
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Float32
+
+from robopuppet.baxter_description import arm_joint_names
+from robopuppet.episodes import export, export_files
+
+T0_NS = 1700000000 * 10**9
+NAME = 'episode_20240101-120000'
+
+
+def puppet_angles(t):
+    """Return puppet R's 7 angles (rad) at t s: slow sines of different periods."""
+    return [0.6 * math.sin(2 * math.pi * t / (7.0 + 2 * j) + j) for j in range(7)]
+
+
+def write_episode(directory, minutes):
+    """Write NAME.bag and NAME.yaml into directory; return the bag path and message count."""
+    duration_s = 60.0 * minutes
+    bag_path = os.path.join(directory, NAME + '.bag')
+    left, right = arm_joint_names('left'), arm_joint_names('right')
+    command = puppet_angles(0.0)
+    measured = list(command)
+    closed = False
+    count = 0
+    with rosbag.Bag(bag_path, 'w') as bag:
+        bag.write('/puppet/arm_R/teleop_state', TeleopState(state='following', follow_right=True),
+                  genpy.Time(0, T0_NS))
+        for tick in range(int(duration_s * 100) + 1):  # 100 Hz
+            t_s = tick / 100.0
+            stamp = genpy.Time(0, T0_NS + tick * 10**7)
+            pressed = 15.0 <= t_s % 40.0 < 30.0
+            if tick % 10 == 0:  # the puppet's state set, 10 Hz
+                puppet = puppet_angles(t_s)
+                bag.write('/puppet/arm_R/joint_states', JointState(
+                    name=['joint_%d' % j for j in range(7)], position=puppet), stamp)
+                for g in range(4):
+                    bag.write('/puppet/arm_R/gripper_%d' % g,
+                              Float32(data=0.0 if pressed and g == 3 else 1.0), stamp)
+                count += 5
+            if tick % 2 == 0:  # arm_R's commands, 50 Hz
+                command = puppet
+                bag.write('/robot/limb/right/joint_command', JointCommand(
+                    mode=JointCommand.POSITION_MODE, names=right, command=command), stamp)
+                count += 1
+            if pressed != closed:
+                closed = pressed
+                bag.write('/robot/end_effector/right_gripper/command', EndEffectorCommand(
+                    command='go', args='{"position": %.1f}' % (0.0 if closed else 100.0)),
+                    stamp)
+                count += 1
+            measured = [m + 0.08 * (c - m) for m, c in zip(measured, command)]  # lagging arm
+            bag.write('/robot/joint_states', JointState(
+                name=left + right, position=[0.0] * 7 + measured, velocity=[0.0] * 14,
+                effort=[0.0] * 14), stamp)
+            bag.write('/robot/end_effector/right_gripper/state', EndEffectorState(
+                position=max(30.0, 100.0 - 80.0 * (t_s % 40.0 - 15.0)) if pressed else 100.0,
+                force=30.0 if pressed else 0.0), stamp)
+            count += 2
+            if tick % 100 == 0:
+                bag.write('/diagnostics', DiagnosticArray(), stamp)
+                count += 1
+    with open(os.path.join(directory, NAME + '.yaml'), 'w') as stream:
+        yaml.safe_dump({'format_version': 1, 'name': NAME, 'sim': True, 'sides': ['R'],
+                        'duration_s': duration_s}, stream)
+    return bag_path, count
+
+
+def timed(function, *args):
+    started = time.perf_counter()
+    result = function(*args)
+    return result, time.perf_counter() - started
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument('--minutes', type=float, default=1.0)
+    parser.add_argument('--repeat', type=int, default=3)
+    parser.add_argument('--keep', metavar='DIR')
+    args = parser.parse_args()
+    directory = args.keep or tempfile.mkdtemp(prefix='bench_export_')
+    os.makedirs(directory, exist_ok=True)
+    try:
+        (bag_path, count), write_s = timed(write_episode, directory, args.minutes)
+        print('episode: %.1f min, %d messages, %.1f MB bag (written in %.1f s)' % (
+            args.minutes, count, os.path.getsize(bag_path) / 1e6, write_s))
+        stages = {}
+        base = os.path.join(directory, NAME)
+        for _ in range(args.repeat):
+            messages, t_read = timed(export_files.read_messages, bag_path,
+                                     export.episode_topics())
+            recording, t_collect = timed(export.collect, messages)
+            arrays, t_arrays = timed(export.aloha_arrays, recording, export.DEFAULT_RATE_HZ)
+            _, t_hdf5 = timed(export_files.write_hdf5, base + '.hdf5', arrays, True,
+                              export.DEFAULT_RATE_HZ, NAME)
+            _, t_csv = timed(lambda: export_files.write_csv(base + '.csv',
+                                                            export.csv_lines(arrays)))
+            series, t_series = timed(export.plot_series, recording, arrays)
+            _, t_plot = timed(export_files.write_plot, base + '.png', series, arrays['time'],
+                              NAME + ' (sim, benchmark)')
+            for name, value in (('read bag', t_read), ('collect', t_collect),
+                                ('resample (50 Hz)', t_arrays), ('write hdf5', t_hdf5),
+                                ('csv rows + write', t_csv), ('plot series', t_series),
+                                ('plot png', t_plot)):
+                stages.setdefault(name, []).append(value)
+        total = 0.0
+        print('stage               best of %d (s per %.1f min)   s per minute of episode' % (
+            args.repeat, args.minutes))
+        for name, values in stages.items():
+            total += min(values)
+            print('  %-18s %8.3f %28.3f' % (name, min(values), min(values) / args.minutes))
+        print('  %-18s %8.3f %28.3f' % ('total', total, total / args.minutes))
+        print('T = %d steps; hdf5 %.2f MB, csv %.2f MB, png %.2f MB' % (
+            len(arrays['time']), os.path.getsize(base + '.hdf5') / 1e6,
+            os.path.getsize(base + '.csv') / 1e6, os.path.getsize(base + '.png') / 1e6))
+    finally:
+        if not args.keep:
+            shutil.rmtree(directory, ignore_errors=True)
+
+
+if __name__ == '__main__':
+    main()

@@ -1,0 +1,123 @@
+"""The terminal command export: recorded episodes to ALOHA's HDF5, Rethink's CSV and a plot.
+
+    rosrun robopuppet export EPISODE... [--format aloha-hdf5|csv|all]... [--rate HZ]
+                                        [--out DIR] [--plot]
+
+An EPISODE is a name (looked up in $ROS_HOME/robopuppet/episodes/, ROS_HOME defaulting to
+~/.ros) or the path of its .bag or .yaml. Each episode exports on its own: a bad one gets an
+error line and the others still export; the exit code is 1 if any failed.
+"""
+import argparse
+import os
+import sys
+import time
+
+from robopuppet.episodes import export, export_files
+
+FORMATS = {'aloha-hdf5': '.hdf5', 'csv': '.csv'}
+
+
+def episodes_dir():
+    """Return the default episodes directory: $ROS_HOME/robopuppet/episodes."""
+    ros_home = os.environ.get('ROS_HOME') or os.path.join(os.path.expanduser('~'), '.ros')
+    return os.path.join(ros_home, 'robopuppet', 'episodes')
+
+
+def resolve(episode):
+    """Return an episode argument as a path: a bare name that is no file is looked up in
+    episodes_dir()."""
+    if os.sep in episode or os.path.exists(episode) or os.path.exists(episode + '.bag'):
+        return episode
+    return os.path.join(episodes_dir(), episode)
+
+
+def _write(path, writer, *args):
+    """Write through a temporary file so that a failed export leaves no half file."""
+    partial = path + '.part'
+    try:
+        writer(partial, *args)
+        os.replace(partial, path)
+    finally:
+        if os.path.exists(partial):
+            os.remove(partial)
+
+
+def export_episode(episode, formats, rate_hz, out_dir, plot, say):
+    """Export one episode; return the paths written. say(text) reports progress.
+
+    Raises:
+        export_files.EpisodeError, export.ExportError: the episode cannot be exported.
+    """
+    bag_path, yaml_path = export_files.episode_paths(resolve(episode))
+    name = os.path.basename(bag_path)[:-len('.bag')]
+    metadata = export_files.read_metadata(yaml_path)
+    if not metadata:
+        say('%s: no %s: taking sim as false' % (name, os.path.basename(yaml_path)))
+    out_dir = out_dir or os.path.dirname(os.path.abspath(bag_path))
+    say('%s: reading %s (%.1f MB)' % (name, bag_path, os.path.getsize(bag_path) / 1e6))
+    started = time.monotonic()
+    recording = export.collect(export_files.read_messages(bag_path, export.episode_topics()))
+    arrays = export.aloha_arrays(recording, rate_hz)
+    say('%s: %.1f s of episode, %d steps at %g Hz (%.1f s)' % (
+        name, arrays['time'][-1], len(arrays['time']), rate_hz, time.monotonic() - started))
+    written = []
+    if 'aloha-hdf5' in formats:
+        written.append(os.path.join(out_dir, name + FORMATS['aloha-hdf5']))
+        _write(written[-1], export_files.write_hdf5, arrays, bool(metadata.get('sim')), rate_hz,
+               name)
+    if 'csv' in formats:
+        written.append(os.path.join(out_dir, name + FORMATS['csv']))
+        _write(written[-1], export_files.write_csv, export.csv_lines(arrays))
+    if plot:
+        written.append(os.path.join(out_dir, name + '.png'))
+        series = export.plot_series(recording, arrays)
+        title = '%s%s: puppet, commanded and measured Baxter angles' % (
+            name, ' (sim)' if metadata.get('sim') else '')
+        _write(written[-1], export_files.write_plot, series, arrays['time'], title)
+    for path in written:
+        say('%s: wrote %s' % (name, path))
+    return written
+
+
+def parse_args(argv):
+    """Return the parsed command line (formats: a set; aloha-hdf5 when neither --format nor
+    --plot is given)."""
+    parser = argparse.ArgumentParser(
+        prog='export', description='Export recorded demonstration episodes.')
+    parser.add_argument('episodes', nargs='+', metavar='EPISODE',
+                        help='episode name (in %s) or its .bag/.yaml path' % episodes_dir())
+    parser.add_argument('--format', action='append', dest='formats',
+                        choices=sorted(FORMATS) + ['all'],
+                        help='aloha-hdf5 (one .hdf5 per episode), csv (Rethink joint_recorder) '
+                             'or all; repeatable (default aloha-hdf5 unless only --plot)')
+    parser.add_argument('--rate', type=float, default=export.DEFAULT_RATE_HZ, metavar='HZ',
+                        help='resampling rate in Hz (default %(default)g)')
+    parser.add_argument('--out', metavar='DIR',
+                        help='output directory (default: beside each episode)')
+    parser.add_argument('--plot', action='store_true',
+                        help='also write <name>.png: puppet, commanded, measured, error, gripper')
+    args = parser.parse_args(argv)
+    if not (args.rate > 0 and args.rate < float('inf')):
+        parser.error('--rate must be a positive number of Hz')
+    chosen = set(args.formats or ([] if args.plot else ['aloha-hdf5']))
+    args.formats = set(FORMATS) if 'all' in chosen else chosen
+    return args
+
+
+def main(argv=None):
+    """Run the command; exit 0 when every episode exported, 1 otherwise."""
+    args = parse_args(sys.argv[1:] if argv is None else argv)
+    if args.out:
+        os.makedirs(args.out, exist_ok=True)
+    failed = 0
+    for episode in args.episodes:
+        try:
+            export_episode(episode, args.formats, args.rate, args.out, args.plot,
+                           lambda text: print('export: ' + text, flush=True))
+        except (export_files.EpisodeError, export.ExportError, OSError) as error:
+            failed += 1
+            print('export: %s: error: %s' % (episode, error), file=sys.stderr, flush=True)
+    if failed:
+        print('export: %d of %d episodes failed' % (failed, len(args.episodes)),
+              file=sys.stderr)
+    sys.exit(1 if failed else 0)

@@ -1,0 +1,134 @@
+"""The exporter's files: read an episode (bag and yaml), write ALOHA's HDF5, Rethink's CSV and
+the episode's plot (PNG). The arrays come from robopuppet.episodes.export.
+
+Reads the bag with rosbag (a file library: no ROS master needed), writes with h5py and
+matplotlib (Agg backend, no display needed).
+"""
+import os
+
+import h5py
+import matplotlib
+import numpy as np
+import rosbag
+import yaml
+
+from robopuppet.episodes.export import COLUMNS
+
+matplotlib.use('Agg')
+import matplotlib.pyplot as plt  # noqa: E402  (after choosing the backend)
+
+ACTIVE_SUFFIX = '.active'
+JOINT_LABELS = ('s0', 's1', 'e0', 'e1', 'w0', 'w1', 'w2')
+
+
+class EpisodeError(Exception):
+    """An episode's files cannot be read (missing, still being recorded, or not a bag)."""
+
+
+def episode_paths(episode):
+    """Return (bag path, yaml path) of an episode given as its name, .bag or .yaml path.
+
+    Raises:
+        EpisodeError: only a .bag.active exists (a recording that is running or crashed), or
+            the bag is missing.
+    """
+    base = episode
+    for suffix in ('.bag' + ACTIVE_SUFFIX, '.bag', '.yaml'):
+        if base.endswith(suffix):
+            base = base[:-len(suffix)]
+            break
+    bag_path, yaml_path = base + '.bag', base + '.yaml'
+    if not os.path.exists(bag_path):
+        if os.path.exists(bag_path + ACTIVE_SUFFIX):
+            raise EpisodeError(
+                '%s%s is still being recorded or its recording crashed: stop the recording, '
+                'or start the recorder (it repairs leftover .active bags) or run '
+                '`rosbag reindex` on it and rename it to .bag' % (bag_path, ACTIVE_SUFFIX))
+        raise EpisodeError('%s: no such bag' % bag_path)
+    return bag_path, yaml_path
+
+
+def read_metadata(yaml_path):
+    """Return the episode's metadata dict ({} when the .yaml is missing)."""
+    if not os.path.exists(yaml_path):
+        return {}
+    with open(yaml_path) as stream:
+        metadata = yaml.safe_load(stream)
+    if not isinstance(metadata, dict):
+        raise EpisodeError('%s: not an episode metadata file' % yaml_path)
+    return metadata
+
+
+def read_messages(bag_path, topics):
+    """Return [(topic, msg, t)] of the bag's messages on topics in time order, t its record
+    time in s since the first of them (subtracted in integer ns: a float of ROS time since 1970
+    keeps only ~0.2 us)."""
+    try:
+        with rosbag.Bag(bag_path) as bag:
+            messages = list(bag.read_messages(topics=topics))
+    except (rosbag.ROSBagException, OSError) as error:
+        raise EpisodeError('%s: cannot read the bag: %s' % (bag_path, error)) from error
+    return [(topic, msg, (t - messages[0][2]).to_sec()) for topic, msg, t in messages]
+
+
+def write_hdf5(path, arrays, sim, rate_hz, name):
+    """Write ALOHA's layout: attrs sim, /observations/qpos, qvel, effort and /action (T, 16)
+    float32 in COLUMNS order; also attrs columns (the column names), rate_hz and episode."""
+    with h5py.File(path, 'w') as root:
+        root.attrs['sim'] = bool(sim)
+        root.attrs['columns'] = np.array(COLUMNS, dtype=h5py.string_dtype())
+        root.attrs['rate_hz'] = float(rate_hz)
+        root.attrs['episode'] = name
+        observations = root.create_group('observations')
+        for dataset in ('qpos', 'qvel', 'effort'):
+            observations.create_dataset(dataset, data=arrays[dataset].astype(np.float32))
+        root.create_dataset('action', data=arrays['action'].astype(np.float32))
+
+
+def write_csv(path, lines):
+    """Write the CSV lines, each ended by a newline."""
+    with open(path, 'w') as stream:
+        stream.write(''.join(line + '\n' for line in lines))
+
+
+def write_plot(path, series, time_s, title):
+    """Write a PNG: per plotted arm two columns of 8 panels. Left: per joint the puppet's angle
+    as that arm takes it, the commanded and the measured angle (deg), then the gripper's
+    commanded and measured opening with the puppet's end-piece reading (0..1). Right: the
+    tracking error commanded - measured of each (deg; opening for the gripper)."""
+    figure, axes = plt.subplots(8, 2 * max(len(series), 1), sharex=True, squeeze=False,
+                                figsize=(11 * max(len(series), 1), 17),
+                                gridspec_kw={'width_ratios': [3, 2] * max(len(series), 1)})
+    figure.suptitle(title)
+    for c, (side, data) in enumerate(sorted(series.items())):
+        value_axes, error_axes = axes[:, 2 * c], axes[:, 2 * c + 1]
+        for j, label in enumerate(JOINT_LABELS):
+            value_axes[j].plot(time_s, np.degrees(data['puppet'][:, j]), color='0.6', lw=3,
+                               label='puppet %s, mapped' % data['driver'])
+            value_axes[j].plot(time_s, np.degrees(data['commanded'][:, j]), 'C0', lw=1,
+                               label='commanded')
+            value_axes[j].plot(time_s, np.degrees(data['measured'][:, j]), 'C1--', lw=1,
+                               label='measured')
+            value_axes[j].set_ylabel('%s_%s (deg)' % (side, label))
+            error_axes[j].plot(time_s, np.degrees(data['error'][:, j]), 'C3', lw=0.8)
+            error_axes[j].axhline(0.0, color='0.7', lw=0.5)
+            error_axes[j].set_ylabel('%s_%s error (deg)' % (side, label))
+        value_axes[0].legend(fontsize=7, loc='upper right', ncol=3)
+        error_axes[0].set_title('tracking error: commanded - measured', fontsize=9)
+        value_axes[7].plot(time_s, data['end_piece'], color='0.6', lw=3,
+                           label='puppet end piece (1 released)')
+        value_axes[7].plot(time_s, data['gripper_commanded'], 'C0', lw=1,
+                           label='commanded opening')
+        value_axes[7].plot(time_s, data['gripper_measured'], 'C1--', lw=1,
+                           label='measured opening')
+        value_axes[7].set_ylim(-0.05, 1.2)
+        value_axes[7].set_ylabel('%s gripper (0..1)' % side)
+        value_axes[7].legend(fontsize=7, loc='upper right', ncol=3)
+        error_axes[7].plot(time_s, data['gripper_commanded'] - data['gripper_measured'], 'C3',
+                           lw=0.8)
+        error_axes[7].set_ylabel('%s gripper error' % side)
+        for axis in (value_axes[7], error_axes[7]):
+            axis.set_xlabel('time (s)')
+    figure.tight_layout(rect=(0, 0, 1, 0.98))
+    figure.savefig(path, format='png', dpi=80)
+    plt.close(figure)

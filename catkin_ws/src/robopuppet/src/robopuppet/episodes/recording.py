@@ -1,0 +1,174 @@
+"""What the recorder records and when: topics per side, button 4, names, metadata, disk rule.
+
+Pure: no rospy, no clock; the node passes times in. The format these follow is fixed in
+docs/demonstrations.md ("The episode format"), shared with the exporter.
+"""
+import collections
+import os
+import time
+
+from robopuppet import interface
+
+FORMAT_VERSION = 1
+RECORD_BUTTON = 4                 # the user button that starts and stops an episode
+RECORD_SERVICE = '/puppet/record'         # robopuppet_msgs/Record
+RECORDING_TOPIC = '/puppet/recording'     # robopuppet_msgs/RecordingState, latched
+DEFAULT_MIN_FREE_MB = 200.0       # below this free space an episode neither starts nor goes on
+NAME_PREFIX = 'episode_'
+BAG, ACTIVE, META = '.bag', '.bag.active', '.yaml'
+# A side's own topics (relative to interface.puppet_ns(side)).
+SIDE_TOPICS = (interface.JOINT_STATES,) + tuple(
+    'gripper_%d' % g for g in range(interface.NUM_GRIPPERS)) + (
+    interface.USER_BUTTON, interface.OPMODE, interface.TELEOP_STATE, interface.STORED_SETTINGS)
+BAXTER_TOPICS = tuple(
+    [interface.limb_topic(s, 'joint_command') for s in interface.BAXTER_SIDES]
+    + [interface.baxter_gripper_topic(s, n) for n in ('command', 'state')
+       for s in interface.BAXTER_SIDES]
+    + [interface.ROBOT_JOINT_STATES, interface.DIAGNOSTICS])
+
+Status = collections.namedtuple('Status', 'recording episode duration_s size_bytes messages '
+                                          'problem')
+Status.__doc__ = """What the recorder is doing (robopuppet_msgs/RecordingState's fields):
+recording (bool), episode (the bag file; the last one after a stop; '' before the first),
+duration_s (s recorded), size_bytes, messages (written so far), problem ('' or why not)."""
+IDLE = Status(False, '', 0.0, 0, 0, '')
+
+
+def parse_sides(text):
+    """Return the puppet sides named in text ('R', 'LR', 'L R'), in interface order.
+
+    Raises:
+        ValueError: no side, or a character that is not a side.
+    """
+    letters = set(text.replace(' ', '').replace(',', '').upper())
+    if not letters or not letters <= set(interface.PUPPET_SIDES):
+        raise ValueError("sides must name puppet sides L and/or R, got %r" % (text,))
+    return tuple(s for s in interface.PUPPET_SIDES if s in letters)
+
+
+def recorded_topics(sides):
+    """Return every topic an episode of these puppet sides holds: theirs, then Baxter's."""
+    return tuple('%s/%s' % (interface.puppet_ns(side), name)
+                 for side in sides for name in SIDE_TOPICS) + BAXTER_TOPICS
+
+
+class ButtonEdge:
+    """Turn a button's readings into presses: a press acts once, a held button never repeats.
+
+    The first reading counts as a change from 'not pressed' (user_btn is published at once on a
+    change, so a first reading of the button is a press).
+    """
+
+    def __init__(self, button=RECORD_BUTTON):
+        self._button = button
+        self._held = False
+
+    def update(self, reading):
+        """Return True when this reading (0 none, 1-4) is a new press of the button."""
+        held = reading == self._button
+        pressed = held and not self._held
+        self._held = held
+        return pressed
+
+
+def episode_name(local_time, taken):
+    """Return a free episode name, e.g. 'episode_20240131-142501' (or '..._2', '..._3').
+
+    Args:
+        local_time: a time.struct_time (local time of the start).
+        taken(name): True when files of that name exist already.
+    """
+    base = NAME_PREFIX + time.strftime('%Y%m%d-%H%M%S', local_time)
+    name, suffix = base, 1
+    while taken(name):
+        suffix += 1
+        name = '%s_%d' % (base, suffix)
+    return name
+
+
+def files_taken(directory, name):
+    """Return True when directory holds a bag, active bag or metadata file of that name."""
+    return any(os.path.exists(os.path.join(directory, name + ext)) for ext in (BAG, ACTIVE, META))
+
+
+def disk_problem(free_bytes, min_free_mb):
+    """Return why recording must not go on with free_bytes left (min_free_mb in MB), or ''."""
+    if free_bytes < min_free_mb * 1e6:
+        return 'disk nearly full: %.0f MB free, recording needs at least %.0f MB' % (
+            free_bytes / 1e6, min_free_mb)
+    return ''
+
+
+def metadata(name, start_wall_s, start_stamp_s, duration_s, sides, comm_rate_hz,
+             ini_fingerprints, notes, ended_cleanly, sim, topics):
+    """Return an episode's metadata as the dict written to <name>.yaml.
+
+    Args:
+        start_wall_s: the start in Unix time (s), written as ISO 8601 UTC.
+        start_stamp_s: the start in ROS time (s).
+        duration_s: s recorded (0 at start).
+        sides: the puppet sides recorded.
+        comm_rate_hz: the puppet's state-set rate, or None when unknown.
+        ini_fingerprints: {side: sha256 hex of the live ini file, or None}.
+        sim: recorded against the simulated system.
+        topics: {topic: message count} ({} at start).
+    """
+    return {
+        'format_version': FORMAT_VERSION,
+        'name': name,
+        'start_time': time.strftime('%Y-%m-%dT%H:%M:%S', time.gmtime(start_wall_s))
+                      + '.%03dZ' % int(round((start_wall_s % 1.0) * 1000) % 1000),
+        'start_stamp': float(start_stamp_s),
+        'duration_s': float(duration_s),
+        'sides': list(sides),
+        'comm_rate_hz': None if comm_rate_hz is None else float(comm_rate_hz),
+        'ini_fingerprints': {side: ini_fingerprints.get(side) for side in sides},
+        'notes': notes,
+        'ended_cleanly': bool(ended_cleanly),
+        'sim': bool(sim),
+        'topics': {topic: int(count) for topic, count in sorted(topics.items())},
+    }
+
+
+class Episode:
+    """Count what one episode has written: messages per topic and bytes.
+
+    Args:
+        name: the episode's name (its files are name + BAG / ACTIVE / META).
+        start_stamp_s: ROS time of the start (s).
+        notes: the operator's notes.
+    """
+
+    def __init__(self, name, start_stamp_s, notes=''):
+        self.name = name
+        self.start_stamp_s = start_stamp_s
+        self.notes = notes
+        self.topics = collections.Counter()
+        self.messages = 0
+        self.last_stamp_s = start_stamp_s
+
+    def count(self, topic, stamp_s):
+        """Count one message written on topic at ROS time stamp_s (s)."""
+        self.topics[topic] += 1
+        self.messages += 1
+        self.last_stamp_s = max(self.last_stamp_s, stamp_s)
+
+    def status(self, bag_file, now_stamp_s, size_bytes, recording=True, problem=''):
+        """Return the Status of this episode at ROS time now_stamp_s (s), its bag at size_bytes."""
+        return Status(recording, bag_file, max(0.0, now_stamp_s - self.start_stamp_s),
+                      int(size_bytes), self.messages, problem)
+
+
+def status_text(status):
+    """Return the one-line summary the GUI shows, e.g. 'REC 00:12, 3.4 MB'."""
+    if status is None:
+        return 'no recorder'
+    minutes, seconds = divmod(int(status.duration_s), 60)
+    size = '%02d:%02d, %.1f MB' % (minutes, seconds, status.size_bytes / 1e6)
+    if status.recording:
+        return 'REC ' + size
+    if status.problem:
+        return status.problem
+    if status.episode:
+        return 'stopped: %s (%s)' % (os.path.basename(status.episode), size)
+    return 'not recording'

@@ -1,0 +1,68 @@
+"""The Recording box: start and stop a demonstration episode, with notes; the recorder's status."""
+from PyQt5 import QtWidgets
+
+from robopuppet.episodes import recording
+from robopuppet.gui.config_task import ConfigTask
+
+RECORD_TIMEOUT_S = 5.0   # the recorder answers at once; a busy machine may take longer
+RED_TEXT = 'QLabel { color: #c62828; font-weight: bold; }'
+
+
+class RecordingBox(QtWidgets.QGroupBox):
+    """Start/Stop (the recorder's /puppet/record, off the GUI thread), notes, live status.
+
+    Args:
+        client: a PuppetClient (or a test double) with record(start, notes) and
+            recording_status().
+    """
+
+    def __init__(self, client, parent=None):
+        super().__init__('Recording (button 4 also starts and stops)', parent)
+        self._client = client
+        self._task = ConfigTask(self)
+        self._refusal = ''
+        self.button = QtWidgets.QPushButton('Start recording')
+        self.button.clicked.connect(self.toggle)
+        self.notes = QtWidgets.QLineEdit()
+        self.notes.setPlaceholderText('notes for this episode (optional)')
+        self.status_label = QtWidgets.QLabel(recording.status_text(None))
+        self.status_label.setWordWrap(True)
+        row = QtWidgets.QHBoxLayout(self)
+        row.addWidget(self.button)
+        row.addWidget(self.notes, 2)
+        row.addWidget(self.status_label, 2)
+
+    def busy(self):
+        """Return True while a Record call has not answered."""
+        return self._task.busy()
+
+    def toggle(self):
+        """Ask the recorder to stop the running episode, or to start one with the notes."""
+        if self._task.busy():
+            return
+        status = self._client.recording_status()
+        start = not (status is not None and status.recording)
+        notes = self.notes.text()
+        self.button.setEnabled(False)
+        self._task.start(lambda: self._client.record(start, notes), self._answered,
+                         RECORD_TIMEOUT_S)
+
+    def _answered(self, answer, error):
+        self.button.setEnabled(True)
+        if error is None and not answer.ok:
+            error = answer.error
+        self._refusal = error or ''
+
+    def refresh(self):
+        """Show the recorder's latest status (call once per frame, on the GUI thread)."""
+        status = self._client.recording_status()
+        recording_now = status is not None and status.recording
+        self.button.setText('Stop recording' if recording_now else 'Start recording')
+        text = recording.status_text(status)
+        if self._refusal and not recording_now:
+            text = self._refusal
+        elif recording_now:
+            self._refusal = ''
+        self.status_label.setText(text)
+        red = recording_now or bool(self._refusal) or bool(status and status.problem)
+        self.status_label.setStyleSheet(RED_TEXT if red else '')

@@ -1,0 +1,149 @@
+"""The exporter's pure core: resampling, ALOHA arrays, CSV rows and plot series, checked against
+numbers computed by hand. Messages are plain objects with the ROS messages' fields."""
+from types import SimpleNamespace as Msg
+
+import numpy as np
+import pytest
+
+from robopuppet.episodes import export
+from robopuppet.episodes.export import Samples
+
+T0 = 100.0  # grid 100.0, 100.0625, 100.125 at 16 Hz: binary fractions, so sums are exact
+RATE_HZ = 16.0
+LEFT = ['left_s0', 'left_s1', 'left_e0', 'left_e1', 'left_w0', 'left_w1', 'left_w2']
+RIGHT = [n.replace('left', 'right') for n in LEFT]
+
+
+def joint_states(t, offset):
+    """Baxter's joint states, right arm first and names reversed: order must not matter.
+    left joint j: 0.1 j + offset; right joint j: -0.1 j - offset; velocity 1.0 j; effort 2 j."""
+    names = (RIGHT + LEFT)[::-1] + ['head_pan']
+    value = {n: (0.1 * (j % 7) + offset) * (1 if n.startswith('left') else -1)
+             for j, n in enumerate(LEFT + RIGHT)}
+    value['head_pan'] = 9.0
+    joints = {n: j % 7 for j, n in enumerate(LEFT + RIGHT)}
+    joints['head_pan'] = 0
+    return ('/robot/joint_states',
+            Msg(name=names, position=[value[n] for n in names],
+                velocity=[1.0 * joints[n] for n in names],
+                effort=[2.0 * joints[n] for n in names]), t)
+
+
+def messages():
+    """An episode of three grid steps: puppet R drives Baxter's right arm and gripper."""
+    return [
+        joint_states(T0, 0.0),
+        joint_states(T0 + 0.125, 0.4),
+        ('/robot/limb/right/joint_command', Msg(mode=2, names=RIGHT, command=[7.0] * 7), T0),
+        ('/robot/limb/right/joint_command',
+         Msg(mode=1, names=['right_e0'], command=[0.5]), T0 + 0.05),
+        ('/robot/end_effector/right_gripper/state', Msg(position=40.0, force=10.0), T0),
+        ('/robot/end_effector/right_gripper/state', Msg(position=100.0, force=30.0), T0 + 0.125),
+        ('/robot/end_effector/right_gripper/command',
+         Msg(command='calibrate', args=''), T0 + 0.01),
+        ('/robot/end_effector/right_gripper/command',
+         Msg(command='go', args='{"position": 0.0}'), T0 + 0.1),
+        ('/puppet/arm_R/joint_states',
+         Msg(name=['joint_%d' % j for j in range(7)], position=[0.3, 0.2, 0.1, 0, 0, 0, 0.6]),
+         T0),
+        ('/puppet/arm_R/gripper_3', Msg(data=1.0), T0),
+        ('/puppet/arm_R/gripper_3', Msg(data=0.0), T0 + 0.125),
+    ]
+
+
+def test_the_columns_are_alohas_order_and_rethinks_header():
+    assert ','.join(export.CSV_HEADER) == (
+        'time,left_s0,left_s1,left_e0,left_e1,left_w0,left_w1,left_w2,left_gripper,'
+        'right_s0,right_s1,right_e0,right_e1,right_w0,right_w1,right_w2,right_gripper')
+
+
+def test_the_time_grid_steps_at_the_rate_and_stops_at_the_end():
+    assert list(export.time_grid(10.0, 11.0, 4.0)) == [10.0, 10.25, 10.5, 10.75, 11.0]
+    assert list(export.time_grid(0.0, 0.99, 2.0)) == [0.0, 0.5]
+    assert list(export.time_grid(5.0, 5.0, 50.0)) == [5.0]
+    with pytest.raises(export.ExportError):
+        export.time_grid(0.0, 1.0, 0.0)
+
+
+def test_interpolation_is_linear_per_column_over_finite_values():
+    samples = Samples(np.array([0.0, 1.0, 2.0]),
+                      np.array([[0.0, np.nan], [2.0, 4.0], [2.0, np.nan]]))
+    got = export.interpolate(samples, np.array([-1.0, 0.0, 0.25, 0.5, 1.5, 3.0]))
+    assert got[:, 0].tolist() == [0.0, 0.0, 0.5, 1.0, 2.0, 2.0]
+    assert got[:, 1].tolist() == [4.0] * 6  # one finite value: held flat both ways
+
+
+def test_hold_takes_the_last_value_at_or_before_each_time():
+    samples = Samples(np.array([0.25, 0.75, 1.0]),
+                      np.array([[1.0, 5.0], [3.0, np.nan], [4.0, 6.0]]))
+    got = export.hold(samples, np.array([0.0, 0.25, 0.5, 0.75, 0.9, 2.0]))
+    assert np.array_equal(got[:, 0], [np.nan, 1.0, 1.0, 3.0, 3.0, 4.0], equal_nan=True)
+    assert np.array_equal(got[:, 1], [np.nan, 5.0, 5.0, 5.0, 5.0, 6.0], equal_nan=True)
+
+
+def test_aloha_arrays_against_hand_computed_values():
+    arrays = export.aloha_arrays(export.collect(messages()), RATE_HZ)
+    assert arrays['time'].tolist() == [0.0, 0.0625, 0.125]
+    for name in ('qpos', 'qvel', 'effort', 'action'):
+        assert arrays[name].shape == (3, 16)
+    col = export.COLUMNS.index
+    # measured: left_w1 (j=5) 0.5 -> 0.9, right_w1 -0.5 -> -0.9, linear in between
+    assert arrays['qpos'][:, col('left_w1')] == pytest.approx([0.5, 0.7, 0.9])
+    assert arrays['qpos'][:, col('right_w1')] == pytest.approx([-0.5, -0.7, -0.9])
+    assert arrays['qvel'][:, col('right_e1')].tolist() == [3.0] * 3
+    assert arrays['effort'][:, col('left_w2')].tolist() == [12.0] * 3
+    # gripper: 40 % -> 100 % opening, its rate (1.0 - 0.4) / 0.125 s, force 10 % -> 30 %
+    assert arrays['qpos'][:, col('right_gripper')].tolist() == [0.4, 0.7, 1.0]
+    assert arrays['qvel'][:, col('right_gripper')] == pytest.approx([4.8] * 3)
+    assert arrays['effort'][:, col('right_gripper')] == pytest.approx([0.1, 0.2, 0.3])
+    assert arrays['qpos'][:, col('left_gripper')].tolist() == [0.0] * 3  # no state: 0
+    # action: right_e0 held at 0.5 from t = 0.05 s (the velocity command is no position);
+    # uncommanded joints and the gripper before its 'go' take the measured position
+    assert arrays['action'][:, col('right_e0')] == pytest.approx([-0.2, 0.5, 0.5])
+    assert arrays['action'][:, col('right_s1')] == pytest.approx([-0.1, -0.3, -0.5])
+    assert arrays['action'][:, col('right_gripper')].tolist() == [0.4, 0.7, 0.0]
+    assert arrays['action'][:, col('left_s0')] == pytest.approx([0.0, 0.2, 0.4])
+
+
+def test_an_episode_without_baxters_joints_does_not_export():
+    with pytest.raises(export.ExportError, match='no /robot/joint_states'):
+        export.aloha_arrays(export.collect(messages()[2:]), RATE_HZ)
+    partial = Msg(name=LEFT, position=[0.0] * 7, velocity=[], effort=[])
+    with pytest.raises(export.ExportError, match='right_s0'):
+        export.aloha_arrays(export.collect([('/robot/joint_states', partial, 1.0)]), RATE_HZ)
+
+
+def test_csv_lines_are_rethinks_rows():
+    lines = export.csv_lines(export.aloha_arrays(export.collect(messages()), RATE_HZ))
+    assert len(lines) == 4
+    assert lines[0] == ','.join(export.CSV_HEADER)
+    first = lines[1].split(',')
+    assert first[0] == '0.000000'
+    assert [float(v) for v in first[1:8]] == pytest.approx([0.1 * j for j in range(7)])
+    assert first[8] == '0.0' and first[16] == '40.0'  # grippers in percent, as Rethink's
+    last = lines[3].split(',')
+    assert last[0] == '0.125000' and last[16] == '100.0'
+    assert float(last[9]) == pytest.approx(-0.4)
+
+
+def test_plot_series_maps_the_driving_puppet_onto_the_arm():
+    recording = export.collect(messages())
+    series = export.plot_series(recording, export.aloha_arrays(recording, RATE_HZ))
+    assert list(series) == ['right']
+    right = series['right']
+    assert right['driver'] == 'R'
+    assert right['puppet'][0].tolist() == [0.3, 0.2, 0.1, 0, 0, 0, 0.6]  # same side: copied
+    assert np.isnan(right['commanded'][0, 2]) and right['commanded'][1, 2] == 0.5
+    assert right['error'][1, 2] == pytest.approx(0.5 - (-0.4))
+    assert right['end_piece'].tolist() == [1.0, 0.5, 0.0]
+    assert right['gripper_commanded'][2] == 0.0 and np.isnan(right['gripper_commanded'][0])
+
+
+def test_the_opposite_arm_mirrors_joints_0_2_4_6():
+    following = ('/puppet/arm_R/teleop_state', Msg(follow_left=True, follow_right=False), T0)
+    command = ('/robot/limb/left/joint_command', Msg(mode=1, names=LEFT, command=[0.0] * 7), T0)
+    recording = export.collect([m for m in messages() if 'right' not in m[0]]
+                               + [following, command])
+    series = export.plot_series(recording, export.aloha_arrays(recording, RATE_HZ))
+    assert list(series) == ['left'] and series['left']['driver'] == 'R'
+    assert series['left']['puppet'][0].tolist() == [-0.3, 0.2, -0.1, 0, 0, 0, -0.6]
