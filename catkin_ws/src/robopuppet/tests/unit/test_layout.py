@@ -31,6 +31,7 @@ ADAPTERS = {
     'puppet_sim.puppet_sim_node', 'baxter_sim.baxter_sim_node', 'gui.gui_node',
     'gui.puppet_client', 'ghost.ghost_node', 'calibration.calibrate_node',
     'episodes.export_files', 'episodes.recorder_node', 'episodes.episode_files',
+    'episodes.replay_node',
 }
 # The GUI's widgets are Qt by nature; they may import Qt but not rospy.
 QT_MODULES_OK = 'gui'

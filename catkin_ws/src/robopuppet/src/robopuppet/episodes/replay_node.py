@@ -1,0 +1,178 @@
+"""The terminal command replay: play a recorded episode's Baxter commands back onto the robot.
+
+    rosrun robopuppet replay EPISODE [--speed S] [--side L|R|LR] [--arms left,right]
+
+Drives robopuppet.episodes.replay through Baxter's own API (the stand-in's too). Exit code 0:
+the episode played to its end; 1: stopped by a stop rule; 2: refused or failed (a message says
+why).
+"""
+import argparse
+import json
+import sys
+import threading
+import time
+
+import rospy
+from baxter_core_msgs.msg import AssemblyState, EndEffectorCommand, EndEffectorState, JointCommand
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Empty, UInt8
+
+from robopuppet import baxter_description
+from robopuppet import interface as ifc
+from robopuppet.arm.baxter_upkeep import CMD_GO
+from robopuppet.arm.readings import arm_poses, joint_angles
+from robopuppet.episodes import export, export_cli, export_files, replay
+from robopuppet.episodes.recording import parse_sides
+from robopuppet.periodic import Guard, Loop
+from robopuppet_msgs.msg import TeleopState
+
+STOP_TOPIC = '/puppet/replay_stop'  # std_msgs/Empty: stop a running replay (the GUI's Stop)
+RATE_HZ = 100.0
+WAIT_S = 5.0        # for Baxter's state and pose before refusing
+STAY_S = 0.3        # after a stop, the stay command is repeated this long before exiting
+
+
+class ReplayNode:
+    """Replay one episode; run() returns the exit code.
+
+    Subscribes: /robot/state, /robot/joint_states, Baxter's gripper states, and per watched
+    puppet side user_btn, joint_states and teleop_state; STOP_TOPIC (std_msgs/Empty).
+    Publishes: /robot/limb/<side>/joint_command (POSITION_MODE, RATE_HZ) and
+    /robot/end_effector/<side>_gripper/command ('go') of the replayed arms.
+    """
+
+    def __init__(self, core, sides, say):
+        self.core, self._say, self._lock = core, say, threading.Lock()
+        self._enabled = self._following = None
+        self._gripper_id, self._sequence = {}, 0
+        self.done = threading.Event()
+        self._stopped_t = None
+        self._names = {s: baxter_description.arm_joint_names(s) for s in ifc.BAXTER_SIDES}
+        self._arm = {s: rospy.Publisher(ifc.limb_topic(s, 'joint_command'), JointCommand,
+                                        queue_size=10, tcp_nodelay=True) for s in core.paths}
+        self._grip = {s: rospy.Publisher(ifc.baxter_gripper_topic(s, 'command'),
+                                         EndEffectorCommand, queue_size=10) for s in core.paths}
+        sub = rospy.Subscriber
+        sub(ifc.ROBOT_STATE, AssemblyState, self._on_robot_state, queue_size=10)
+        sub(ifc.ROBOT_JOINT_STATES, JointState, self._on_joints, queue_size=10)
+        for s in core.paths:
+            sub(ifc.baxter_gripper_topic(s, 'state'), EndEffectorState,
+                lambda m, s=s: self._gripper_id.__setitem__(s, m.id), queue_size=1)
+        for side in sides:
+            ns = ifc.puppet_ns(side)
+            sub(ns + '/' + ifc.USER_BUTTON, UInt8, lambda m: self._call(core.on_button, m.data))
+            sub('%s/%s' % (ns, ifc.JOINT_STATES), JointState,
+                lambda m, side=side: self._on_puppet(side, m), tcp_nodelay=True)
+            sub(ns + '/' + ifc.TELEOP_STATE, TeleopState, self._on_teleop)
+        sub(STOP_TOPIC, Empty, lambda m: self._call(core.stop, 'stop requested'))
+
+    def _call(self, method, *args):
+        with self._lock:
+            return method(time.monotonic(), *args)
+
+    def _on_robot_state(self, msg):
+        self._enabled = msg.enabled and not msg.stopped and not msg.error
+        if self.core.phase is not None:
+            self._call(self.core.on_robot_enabled, self._enabled)
+
+    def _on_joints(self, msg):
+        poses, speeds = arm_poses(msg.name, msg.position, msg.velocity, self._names)
+        self._call(self.core.on_robot_pose, poses, speeds)
+
+    def _on_puppet(self, side, msg):
+        try:
+            self._call(self.core.on_puppet, side, joint_angles(msg.name, msg.position))
+        except ValueError:
+            pass  # not the puppet's seven joints: no reading of where it is
+
+    def _on_teleop(self, msg):
+        self._following = bool(msg.follow_left or msg.follow_right)
+        if self.core.phase is not None:
+            self._call(self.core.on_following, self._following)
+
+    def _send(self, step):
+        for side, angles in step.commands.items():
+            self._arm[side].publish(JointCommand(mode=JointCommand.POSITION_MODE,
+                                                 command=angles, names=self._names[side]))
+        for grip in step.grips:
+            self._sequence += 1
+            self._grip[grip.side].publish(EndEffectorCommand(
+                id=self._gripper_id.get(grip.side, 0), command=CMD_GO,
+                args=json.dumps({'position': grip.position}), sender=rospy.get_name(),
+                sequence=self._sequence))
+
+    def _tick(self):
+        with self._lock:
+            now = time.monotonic()
+            step = self.core.step(now)
+            self._send(step)
+        if step.phase == replay.STOPPED:
+            self._stopped_t = self._stopped_t or now
+            if now - self._stopped_t >= STAY_S:
+                self.done.set()
+        elif step.phase == replay.FINISHED:
+            self.done.set()
+
+    def run(self):
+        """Check, approach, play; return the exit code (0 finished, 1 stopped, 2 refused)."""
+        deadline = time.monotonic() + WAIT_S
+        while not rospy.is_shutdown() and time.monotonic() < deadline and (
+                self._enabled is None or any(self.core.robot.now(s, time.monotonic()) is None
+                                             for s in self.core.paths)):
+            time.sleep(0.05)
+        time.sleep(0.2)  # latched teleop_state
+        if not self._enabled:
+            self._say('refused: Baxter is not enabled or not there (no /robot/state)')
+            return 2
+        if self._following:
+            self._say('refused: the puppet is following Baxter: press its follow button to '
+                      'stop following first, it would fight the replay')
+            return 2
+        with self._lock:
+            self._send(self.core.start(time.monotonic()))
+        self._say('moving slowly to the start pose of %s' % ', '.join(sorted(self.core.paths)))
+        loop = Loop(Guard('replay', rospy.logerr), 'replay', 1.0 / RATE_HZ, self._tick).start()
+        shown = None
+        while not self.done.wait(1.0) and not rospy.is_shutdown():
+            played_s, total_s = self.core.progress()
+            if (self.core.phase, int(played_s)) != shown and self.core.phase == replay.PLAY:
+                self._say('playing %.1f of %.1f s' % (played_s, total_s))
+                shown = (self.core.phase, int(played_s))
+        loop.stop()
+        if self.core.phase == replay.FINISHED:
+            self._say('finished')
+            return 0
+        self._say('stopped: %s' % (self.core.why or 'shut down'))
+        return 1
+
+
+def main(argv=None):
+    """Parse the arguments, replay the episode, exit with the exit code."""
+    parser = argparse.ArgumentParser(prog='replay', description=__doc__.split('\n')[0])
+    parser.add_argument('episode', help='a name in the episodes directory, or a .bag/.yaml')
+    parser.add_argument('--speed', type=float, default=1.0,
+                        help='speed factor, 0 < S <= %g (default 1; the joints never exceed '
+                             'their velocity limits)' % replay.MAX_SPEED)
+    parser.add_argument('--side', help="puppet sides whose button 1 and motion stop the "
+                                       "replay (default: the episode's sides)")
+    parser.add_argument('--arms', help="Baxter arms to replay, e.g. right or left,right "
+                                       "(default: those the episode commands)")
+    args = parser.parse_args(rospy.myargv(argv if argv is not None else sys.argv)[1:])
+
+    def say(text):
+        print('replay: %s' % text, file=sys.stderr, flush=True)
+    try:
+        bag_path, yaml_path = export_files.episode_paths(export_cli.resolve(args.episode))
+        sides = parse_sides(args.side or ''.join(
+            export_files.read_metadata(yaml_path).get('sides') or ifc.PUPPET_SIDES))
+        arms = args.arms.replace(',', ' ').split() if args.arms else None
+        say('reading %s' % bag_path)
+        recording = export.collect(export_files.read_messages(bag_path, export.episode_topics()))
+        limits = {s: baxter_description.arm_limits(s) for s in ifc.BAXTER_SIDES}
+        paths, grips = replay.episode_script(recording, arms)
+        core = replay.Replay(paths, grips, limits, args.speed, 1.0 / RATE_HZ)
+    except (export_files.EpisodeError, ValueError) as error:
+        say('failed: %s' % error)
+        sys.exit(2)
+    rospy.init_node('replay', anonymous=True)
+    sys.exit(ReplayNode(core, sides, say).run())

@@ -1,0 +1,138 @@
+#!/usr/bin/python3
+"""rostest: replay a synthetic episode onto the stand-in; button 1 stops a replay at once."""
+import math
+import shutil
+import subprocess
+import tempfile
+import threading
+import time
+import unittest
+
+import numpy as np
+import rosbag
+import rospy
+import rostest
+import yaml
+from baxter_core_msgs.msg import EndEffectorCommand, JointCommand
+from sensor_msgs.msg import JointState
+from std_msgs.msg import UInt8
+
+from robopuppet import baxter_description, interface
+from teleop_harness import Baxter, PuppetArm, wait_for
+
+RATE_HZ, DURATION_S = 100.0, 3.0
+NAMES = baxter_description.arm_joint_names('right')
+HAND = [0.2, 0.4, 0.3, 1.0, -0.3, 0.6, 0.25]
+
+
+def write_episode(directory, start):
+    """Write a synthetic episode: the right arm swings joints 0 and 3 around `start` (0.15 rad
+    sines, at most 0.31 rad/s: within Baxter's default mode-1 speed, 0.3 x the velocity
+    limits), its gripper closes at 1 s and opens at 2 s. Return
+    (bag path, times s, (n, 7) commanded angles)."""
+    times = np.arange(0.0, DURATION_S + 1e-9, 1.0 / RATE_HZ)
+    path = np.tile(start, (len(times), 1))
+    path[:, 0] += 0.15 * np.sin(2 * math.pi * times / DURATION_S)
+    path[:, 3] -= 0.15 * np.sin(2 * math.pi * times / DURATION_S)
+    bag_path = directory + '/episode_synthetic.bag'
+    t0 = rospy.Time(1000)
+    with rosbag.Bag(bag_path, 'w') as bag:
+        for t, angles in zip(times, path):
+            bag.write(interface.limb_topic('right', 'joint_command'), JointCommand(
+                mode=JointCommand.POSITION_MODE, names=NAMES, command=list(angles)),
+                t0 + rospy.Duration(t))
+        for t, position in ((0.0, 100.0), (1.0, 0.0), (2.0, 100.0)):
+            bag.write(interface.baxter_gripper_topic('right', 'command'), EndEffectorCommand(
+                command='go', args='{"position": %g}' % position), t0 + rospy.Duration(t))
+    with open(directory + '/episode_synthetic.yaml', 'w') as stream:
+        yaml.safe_dump({'format_version': 1, 'sides': ['R'], 'sim': True}, stream)
+    return bag_path, times, path
+
+
+class ReplaySimTest(unittest.TestCase):
+    """The stand-in follows a replayed episode; button 1 stops a replay."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.baxter, cls.puppet = Baxter(), PuppetArm('R')
+        cls.measured, cls.grips, cls.button_t = [], [], None
+        cls.lock = threading.Lock()
+        rospy.Subscriber(interface.ROBOT_JOINT_STATES, JointState, cls._on_joints,
+                         queue_size=100)
+        rospy.Subscriber(interface.baxter_gripper_topic('right', 'command'), EndEffectorCommand,
+                         lambda m: cls.grips.append((time.monotonic(), m.command, m.args)))
+        rospy.Subscriber(interface.puppet_ns('R') + '/' + interface.USER_BUTTON, UInt8,
+                         cls._on_button)
+        cls.dir = tempfile.mkdtemp(prefix='replay_test_')
+        cls.addClassCleanup(shutil.rmtree, cls.dir, True)
+        wait_for(lambda: not any(map(math.isnan, cls.baxter.arm('right'))), 30, 'Baxter')
+        cls.puppet.hand(HAND)  # the operator's hand holds the puppet still
+        wait_for(lambda: cls.puppet.angles is not None, 30, 'the puppet')
+        wait_for(lambda: cls.baxter.gripper.get('right') is not None
+                 and cls.baxter.gripper['right'].calibrated == 1, 30, 'the gripper calibrated')
+        start = list(cls.baxter.arm('right'))
+        start[1] += 0.1  # a short approach
+        cls.bag, cls.times, cls.path = write_episode(cls.dir, start)
+
+    @classmethod
+    def _on_joints(cls, msg):
+        position = dict(zip(msg.name, msg.position))
+        if all(n in position for n in NAMES):
+            with cls.lock:
+                cls.measured.append((time.monotonic(), [position[n] for n in NAMES]))
+
+    @classmethod
+    def _on_button(cls, msg):
+        if msg.data == interface.BUTTON_HOLD and cls.button_t is None:
+            cls.button_t = time.monotonic()
+
+    def replay(self, *args):
+        return subprocess.Popen(['rosrun', 'robopuppet', 'replay', self.bag] + list(args),
+                                stderr=subprocess.PIPE, text=True)
+
+    def test_1_baxter_follows_the_recorded_path(self):
+        started = time.monotonic()
+        process = self.replay()
+        _, err = process.communicate(timeout=40)
+        self.assertEqual(process.returncode, 0, err)
+        with self.lock:
+            samples = [(t, q) for t, q in self.measured if t > started]
+        m_t = np.array([t for t, _ in samples])
+        m_q = np.array([q for _, q in samples])
+        best = math.inf
+        for offset in np.arange(m_t[0], m_t[-1] - DURATION_S, 0.002):  # time alignment
+            inside = (m_t >= offset) & (m_t <= offset + DURATION_S)
+            want = np.column_stack([np.interp(m_t[inside] - offset, self.times, column)
+                                    for column in self.path.T])
+            best = min(best, float(np.abs(m_q[inside] - want).max()))
+        print('path error after time alignment: %.4f rad' % best)
+        self.assertLess(best, 0.01)
+        goes = [(t, json_position(a)) for t, c, a in self.grips if c == 'go' and t > started]
+        self.assertEqual([p for _, p in goes], [100.0, 0.0, 100.0])
+        self.assertAlmostEqual(goes[2][0] - goes[1][0], 1.0, delta=0.1)
+
+    def test_2_button_1_stops_a_replay_at_once(self):
+        process = self.replay('--speed', '0.5')
+        start = self.path[0]
+        wait_for(lambda: abs(self.baxter.arm('right')[3] - start[3]) > 0.1, 20, 'playing')
+        self.puppet.press(interface.BUTTON_HOLD)
+        _, err = process.communicate(timeout=10)
+        self.assertEqual(process.returncode, 1, err)
+        self.assertIn('button 1', err)
+        commands = self.baxter.commands_since('right', self.button_t)
+        stay = commands[-1][2]
+        first_stay_t = next(t for t, _, c in commands if c == stay)
+        self.assertTrue(all(c == stay for t, _, c in commands if t >= first_stay_t))
+        print('stop latency after button 1: %.3f s' % (first_stay_t - self.button_t))
+        self.assertLess(first_stay_t - self.button_t, 0.2)
+        here = self.baxter.arm('right')
+        self.assertLess(max(abs(a - b) for a, b in zip(here, stay)), 0.02)
+
+
+def json_position(args):
+    return yaml.safe_load(args)['position']
+
+
+if __name__ == '__main__':
+    rospy.init_node('test_replay_sim')
+    rostest.rosrun('robopuppet', 'replay_sim', ReplaySimTest)
