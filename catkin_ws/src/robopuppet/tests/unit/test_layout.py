@@ -35,8 +35,9 @@ ADAPTERS = {
 }
 # The GUI's widgets are Qt by nature; they may import Qt but not rospy.
 QT_MODULES_OK = 'gui'
-ROS_MODULES = {'rospy', 'rospkg', 'rosgraph', 'genpy', 'roslib', 'std_msgs', 'sensor_msgs',
-               'diagnostic_msgs', 'baxter_core_msgs', 'robopuppet_msgs'}
+ROS_MODULES = {'rospy', 'rospkg', 'rosgraph', 'rosbag', 'genpy', 'roslib', 'tf2_ros',
+               'std_msgs', 'sensor_msgs', 'geometry_msgs', 'diagnostic_msgs', 'tf2_msgs',
+               'baxter_core_msgs', 'robopuppet_msgs'}
 QT_MODULES = {'PyQt5', 'pyqtgraph'}
 
 
