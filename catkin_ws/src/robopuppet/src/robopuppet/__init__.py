@@ -24,8 +24,9 @@ Data flows from the puppet to Baxter:
 |               |                                                             | episodes        |
 | ghost/        | ghost: the puppet's pose on a second, translucent Baxter    | tables, arm     |
 | episodes/     | recorder: demonstration episodes as rosbags (what, when,    | tables, arm     |
-|               | names, metadata, disk rule, the episode's files, repair);   | (the exporter)  |
-|               | the exporter of episodes                                    |                 |
+|               | names, metadata, disk rule, the episode's files, repair);   | (the exporter), |
+|               | the exporter of episodes                                    | config (the ini |
+|               |                                                             | file's path)    |
 
 The subsystems meet only through ROS topics and services named in interface.py (settings reach
 serial_X as config_X's stored_settings, not as an import); puppet_sim/ shares protocol/'s codec

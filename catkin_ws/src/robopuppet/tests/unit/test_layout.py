@@ -22,7 +22,7 @@ LAYERS = {
     'calibration': set(),
     'gui': {'calibration', 'config', 'episodes', 'puppet_sim'},
     'ghost': {'arm'},
-    'episodes': {'arm'},
+    'episodes': {'arm', 'config'},
 }
 # The modules that may talk to ROS: the node adapters (named *_node; only the executables in
 # nodes/ import them) and the adapters they use.

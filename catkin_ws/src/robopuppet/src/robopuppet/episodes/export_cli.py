@@ -17,18 +17,12 @@ from robopuppet.episodes import export, export_files
 FORMATS = {'aloha-hdf5': '.hdf5', 'csv': '.csv'}
 
 
-def episodes_dir():
-    """Return the default episodes directory: $ROS_HOME/robopuppet/episodes."""
-    ros_home = os.environ.get('ROS_HOME') or os.path.join(os.path.expanduser('~'), '.ros')
-    return os.path.join(ros_home, 'robopuppet', 'episodes')
-
-
 def resolve(episode):
     """Return an episode argument as a path: a bare name that is no file is looked up in
-    episodes_dir()."""
+    the default episodes directory."""
     if os.sep in episode or os.path.exists(episode) or os.path.exists(episode + '.bag'):
         return episode
-    return os.path.join(episodes_dir(), episode)
+    return os.path.join(export_files.default_episodes_dir(), episode)
 
 
 def _write(path, writer, *args):
@@ -85,7 +79,7 @@ def parse_args(argv):
     parser = argparse.ArgumentParser(
         prog='export', description='Export recorded demonstration episodes.')
     parser.add_argument('episodes', nargs='+', metavar='EPISODE',
-                        help='episode name (in %s) or its .bag/.yaml path' % episodes_dir())
+                        help='episode name (in %s) or its .bag/.yaml path' % export_files.default_episodes_dir())
     parser.add_argument('--format', action='append', dest='formats',
                         choices=sorted(FORMATS) + ['all'],
                         help='aloha-hdf5 (one .hdf5 per episode), csv (Rethink joint_recorder) '

@@ -10,8 +10,10 @@ import h5py
 import matplotlib
 import numpy as np
 import rosbag
+import rospkg
 import yaml
 
+from robopuppet.episodes import recording
 from robopuppet.episodes.export import COLUMNS
 
 matplotlib.use('Agg')
@@ -23,6 +25,11 @@ JOINT_LABELS = ('s0', 's1', 'e0', 'e1', 'w0', 'w1', 'w2')
 
 class EpisodeError(Exception):
     """An episode's files cannot be read (missing, still being recorded, or not a bag)."""
+
+
+def default_episodes_dir():
+    """Return the recorder's default episodes directory: $ROS_HOME/robopuppet/episodes."""
+    return recording.episodes_dir(rospkg.get_ros_home())
 
 
 def episode_paths(episode):

@@ -8,6 +8,7 @@ import rospy
 from std_msgs.msg import UInt8
 
 from robopuppet import interface
+from robopuppet.config import config_file
 from robopuppet.episodes import episode_files, recording
 from robopuppet.episodes.session import Recorder
 from robopuppet.periodic import Guard, Loop
@@ -40,8 +41,8 @@ class RecorderNode:
 
     def __init__(self):
         sides = recording.parse_sides(rospy.get_param('~sides', 'LR'))
-        directory = rospy.get_param('~episodes_dir', '') or os.path.join(
-            rospkg.get_ros_home(), 'robopuppet', 'episodes')
+        directory = rospy.get_param('~episodes_dir', '') or recording.episodes_dir(
+            rospkg.get_ros_home())
         self._sim = bool(rospy.get_param('~sim', False))
         self._lock = threading.Lock()
         self._recorder = Recorder(os.path.expanduser(directory), sides,
@@ -78,10 +79,9 @@ class RecorderNode:
         """Return what the metadata needs of the running system."""
         side = self._recorder.sides[0]
         rate = rospy.get_param('/arm_%s/comm_rate' % side, None)
-        home = os.path.join(rospkg.get_ros_home(), 'robopuppet')
-        fingerprints = {s: episode_files.ini_fingerprint(os.path.join(
-            home, rospy.get_param('/config_%s/file_name' % s, 'arm_%s.ini' % s)))
-            for s in self._recorder.sides}
+        fingerprints = {s: episode_files.ini_fingerprint(config_file.resolve_path(
+            rospy.get_param('/config_%s/file_name' % s, 'arm_%s.ini' % s),
+            rospkg.get_ros_home())) for s in self._recorder.sides}
         return rate, fingerprints, self._sim
 
     def _start(self, notes):

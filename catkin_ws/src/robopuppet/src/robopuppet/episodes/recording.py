@@ -34,6 +34,11 @@ duration_s (s recorded), size_bytes, messages (written so far), problem ('' or w
 IDLE = Status(False, '', 0.0, 0, 0, '')
 
 
+
+def episodes_dir(ros_home):
+    """Return the default episodes directory under a ROS home: <ros_home>/robopuppet/episodes."""
+    return os.path.join(ros_home, 'robopuppet', 'episodes')
+
 def parse_sides(text):
     """Return the puppet sides named in text ('R', 'LR', 'L R'), in interface order.
 
