@@ -4,8 +4,6 @@ the test holds the virtual puppet's hand on every joint but the one being checke
 the check finds exactly joint 5, the PID never drives more than the safe voltage, the ini comes
 back byte for byte, and Flip stores joint 5's corrected sign_motor."""
 import math
-import os
-import shutil
 import threading
 import unittest
 
@@ -13,12 +11,9 @@ import rospy
 import rostest
 from sensor_msgs.msg import JointState
 
-from gui_testing import application, wait_until
+from calibration_testing import CalibrationWindow
 from robopuppet import interface, settings
 from robopuppet.calibration import motor_check
-from robopuppet.gui.puppet_client import PuppetClient, SimPuppetClient
-from robopuppet.gui.state import ArmState
-from robopuppet.gui.window import Window
 
 WRONG_JOINT = 5
 # The arm hangs down (joint 1 pitches it down, joint 3 straightens the rest below): gravity
@@ -41,24 +36,13 @@ class Control:
             self.max_v = max([self.max_v] + [abs(v) for v in msg.effort if math.isfinite(v)])
 
 
-class CalibrationMotorsTest(unittest.TestCase):
+class CalibrationMotorsTest(CalibrationWindow, unittest.TestCase):
 
     @classmethod
     def setUpClass(cls):
         rospy.init_node('calibration_motors_test')
-        application()
-        cls.ini_path = rospy.get_param('~ini_path')
-        cls.addClassCleanup(shutil.rmtree, os.path.dirname(cls.ini_path), True)
-        cls.client = PuppetClient('R', ArmState())
-        cls.sim = SimPuppetClient('R')
-        cls.window = Window(cls.client, debug_mode=False, sim=cls.sim)
-        cls.tab = cls.window.calibration_tab
+        cls.open_window()
 
-    def until(self, predicate, timeout_s):
-        def frame_and_check():
-            self.window.frame()
-            return predicate()
-        return wait_until(frame_and_check, timeout_s)
 
     def statuses(self):
         return [j.status for j in self.client.state.snapshot().joints]

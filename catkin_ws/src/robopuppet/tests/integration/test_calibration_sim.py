@@ -4,21 +4,16 @@ test moves the virtual puppet's hand through the wizard's poses, captures (the G
 the end-piece button), applies, and then the puppet reports the hand's angles; the ini holds
 the new values; Undo gives back the old file byte for byte."""
 import math
-import os
-import shutil
 import time
 import unittest
 
 import rospy
 import rostest
 
-from gui_testing import application, wait_until
+from calibration_testing import CalibrationWindow
 from robopuppet import settings
 from robopuppet.calibration import procedure
 from robopuppet.config import config_store
-from robopuppet.gui.puppet_client import PuppetClient, SimPuppetClient
-from robopuppet.gui.state import ArmState
-from robopuppet.gui.window import Window
 
 TOLERANCE_RAD = 0.01
 # The simulated hand holds a joint through a spring, so gravity bends the shoulder (joint 1) up
@@ -26,7 +21,6 @@ TOLERANCE_RAD = 0.01
 # this close to the expected one and has stopped moving.
 REACHED_RAD = 0.06
 STEADY_RAD, STEADY_S = 0.002, 0.5
-SETTLE_S = 30.0
 
 
 def firmware_report(q, cfg):
@@ -35,25 +29,14 @@ def firmware_report(q, cfg):
     return cfg['sign_angle'] * math.atan2(math.sin(x), math.cos(x))
 
 
-class CalibrationSimTest(unittest.TestCase):
+class CalibrationSimTest(CalibrationWindow, unittest.TestCase):
 
     @classmethod
     def setUpClass(cls):
         rospy.init_node('calibration_sim_test')
-        application()
-        cls.ini_path = rospy.get_param('~ini_path')
-        cls.addClassCleanup(shutil.rmtree, os.path.dirname(cls.ini_path), True)
-        cls.client = PuppetClient('R', ArmState())
-        cls.sim = SimPuppetClient('R')
-        cls.window = Window(cls.client, debug_mode=False, sim=cls.sim)
-        cls.tab = cls.window.calibration_tab
+        cls.open_window()
         cls.window.tabs.setCurrentWidget(cls.tab)
 
-    def until(self, predicate, timeout_s=SETTLE_S):
-        def frame_and_check():
-            self.window.frame()
-            return predicate()
-        return wait_until(frame_and_check, timeout_s)
 
     def angles(self):
         return [j.angle_rad for j in self.client.state.snapshot().joints]
