@@ -10,7 +10,7 @@ Data flows from the puppet to Baxter:
 |---------------|-------------------------------------------------------------|-----------------|
 | (top level)   | shared tables: interface (names, enumerations, timing),     | tables only     |
 |               | settings (the joint settings), baxter_description (URDF),   |                 |
-|               | periodic (guarded loops)                                    |                 |
+|               | periodic (guarded loops), params (parameter checks)         |                 |
 | config/       | config_X: ini store, settings keeper, atomic file, the node | tables          |
 | baxter_sim/   | baxter_sim: the kinematic Baxter stand-in and its node      | tables          |
 | protocol/     | serial_X: frames, link, state sets, serial core, settings   | tables          |

@@ -4,7 +4,7 @@ import math
 import pytest
 
 from robopuppet import baxter_description, settings
-from robopuppet.arm.readings import arm_poses, joint_angles, non_finite_joints, positive
+from robopuppet.arm.readings import arm_poses, joint_angles, non_finite_joints
 
 NAMES = list(settings.JOINT_NAMES)
 BAXTER_NAMES = {side: baxter_description.arm_joint_names(side) for side in ('left', 'right')}
@@ -48,14 +48,3 @@ def test_baxter_velocities_count_only_when_there_is_one_per_name():
     assert speeds['right'] == [0.5] * 7
     _, speeds = arm_poses(right, [0.0] * 7, [0.5] * 6, BAXTER_NAMES)
     assert speeds['right'] == [0.0] * 7
-
-
-@pytest.mark.parametrize('value', ['fast', None, math.nan, math.inf, 0.0, -1.0, 5.0])
-def test_a_parameter_that_is_not_a_positive_number_of_at_least_its_minimum_is_refused(value):
-    with pytest.raises(ValueError, match='~command_rate'):
-        positive('~command_rate', value, minimum=10.0)
-
-
-def test_a_good_parameter_is_returned_as_a_float():
-    assert positive('~comm_rate', '2') == 2.0
-    assert positive('~command_rate', 10, minimum=10.0) == 10.0

@@ -1,7 +1,6 @@
 """Tests of robopuppet.baxter_sim.baxter_api: refusal log lines, enable-state changes, the
 publishing schedule and the content of the state messages, without ROS."""
 import io
-import math
 
 import pytest
 from baxter_core_msgs.msg import AssemblyState, EndEffectorProperties, EndEffectorState
@@ -21,17 +20,6 @@ def make_api(enabled=True, timeout_s=0.2, **kwargs):
     if enabled:
         sim.set_enabled('/robot/set_super_enable', True, 0.0)
     return sim
-
-
-@pytest.mark.parametrize('value, expected', [(100, 100.0), (0.2, 0.2), ('0.5', 0.5)])
-def test_positive_param_accepts_positive_numbers(value, expected):
-    assert api.positive_param('/baxter_sim/rate_hz', value) == expected
-
-
-@pytest.mark.parametrize('value', [0, -1.0, 'fast', None, math.nan, math.inf, True, [1.0]])
-def test_positive_param_names_the_parameter_when_refusing(value):
-    with pytest.raises(ValueError, match='/baxter_sim/rate_hz'):
-        api.positive_param('/baxter_sim/rate_hz', value)
 
 
 def test_bool_param_takes_only_booleans():

@@ -10,8 +10,8 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool, Empty, Float32, String, UInt8
 
-from robopuppet import baxter_description, interface as ifc, settings
-from robopuppet.arm import baxter_upkeep, controller, readings, teleop, timing
+from robopuppet import baxter_description, interface as ifc, params, settings
+from robopuppet.arm import baxter_upkeep, controller, teleop, timing
 from robopuppet.periodic import Guard, Loop
 from robopuppet_msgs.msg import TeleopState
 
@@ -21,7 +21,7 @@ WATCHDOG_PERIOD_S = 0.05     # the watchdog thread checks the command loop this 
 
 def param(name, default, minimum=0.0):
     """Return the private parameter ~name as a positive float (ValueError: it is not one)."""
-    return readings.positive('~' + name, rospy.get_param('~' + name, default), minimum)
+    return params.positive('~' + name, rospy.get_param('~' + name, default), minimum)
 
 
 class ArmNode:

@@ -1,4 +1,4 @@
-"""Teleop's inputs from the fields of arm_X's messages, and its numeric parameters (pure).
+"""Teleop's inputs from the fields of arm_X's messages (pure).
 
 Joints are matched by name, never by index: the puppet's joint_states name joint_0..joint_6,
 Baxter's /robot/joint_states name every joint of the robot in an order of its own.
@@ -6,22 +6,6 @@ Baxter's /robot/joint_states name every joint of the robot in an order of its ow
 import math
 
 from robopuppet import settings
-
-
-def positive(name, value, minimum=0.0):
-    """Return a parameter's value as a finite float above 0 and at least `minimum` (if not 0).
-
-    Raises:
-        ValueError: the value is not such a number (the message names the parameter).
-    """
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        number = math.nan
-    if not (math.isfinite(number) and number > 0.0 and number >= minimum):
-        raise ValueError('%s must be a number of at least %g, got %r' % (name, minimum, value)
-                         if minimum else '%s must be a positive number, got %r' % (name, value))
-    return number
 
 
 def joint_angles(names, positions):

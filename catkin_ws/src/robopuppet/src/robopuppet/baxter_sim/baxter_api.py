@@ -8,7 +8,6 @@ the model and the stamps share; `wall_s` is monotonic time (s), which only the l
 Not thread-safe: the node calls it under one lock.
 """
 import collections
-import math
 
 from robopuppet.baxter_description import BASE_FRAME
 from robopuppet.baxter_sim import baxter_io as bio
@@ -88,21 +87,6 @@ m/s, efforts), `poses` {side: ((x, y, z) m, (qx, qy, qz, qw)) of the gripper in 
 `grippers` {side: EndEffectorState fields but the timestamp}, `state_due` (publish /robot/state
 too), `io` {topic: fields} of every io_publications() topic (AnalogIOState's timestamp is
 the node's)."""
-
-
-def positive_param(name, value):
-    """Return a parameter's value as a finite float > 0.
-
-    Raises:
-        ValueError: naming the parameter, when the value is anything else.
-    """
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        number = math.nan
-    if not (math.isfinite(number) and number > 0.0) or isinstance(value, bool):
-        raise ValueError('parameter %s must be a number > 0, got %r' % (name, value))
-    return number
 
 
 def bool_param(name, value):

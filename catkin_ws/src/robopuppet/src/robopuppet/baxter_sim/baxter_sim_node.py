@@ -18,7 +18,7 @@ from geometry_msgs.msg import Point, Pose, Quaternion
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool, Empty, Float64, Header
 
-from robopuppet import baxter_description as bd, interface
+from robopuppet import baxter_description as bd, interface, params
 from robopuppet.baxter_sim import baxter_api as api
 from robopuppet.baxter_sim.baxter_model import BaxterModel
 from robopuppet.interface import BAXTER_SIDES
@@ -58,8 +58,8 @@ class BaxterSimNode:
                 bd.urdf_path(rospkg.RosPack().get_path('robopuppet')))
         except bd.DescriptionError as error:
             raise ValueError('parameter /robot_description: %s' % error) from error
-        self._rate_hz = _param('~rate_hz', 100.0, api.positive_param)
-        timeout_s = _param('~joint_command_timeout', 0.2, api.positive_param)
+        self._rate_hz = _param('~rate_hz', 100.0, params.positive)
+        timeout_s = _param('~joint_command_timeout', 0.2, params.positive)
         calibrated = _param('~gripper_calibrated', False, api.bool_param)
         self._lock = threading.Lock()         # the api and model, between loop and callbacks
         self._state_lock = threading.Lock()   # orders /robot/state messages like the changes
