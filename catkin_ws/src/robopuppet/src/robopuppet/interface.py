@@ -53,6 +53,9 @@ TELEOP_STATE = 'teleop_state'       # robopuppet_msgs/TeleopState, latched (arm_
 GET_CONFIG = 'get_config'           # robopuppet_msgs/GetConfig (config_X)
 SET_CONFIG = 'set_config'           # robopuppet_msgs/SetConfig (config_X)
 STORED_SETTINGS = 'stored_settings'  # robopuppet_msgs/ArmSettings, latched (config_X)
+LINK_PING = 'link_ping'             # robopuppet_msgs/LinkPing from the robot host (arm_X)
+LINK_ECHO = 'link_echo'             # robopuppet_msgs/LinkPing answered by the operator host
+LINK_STATE = 'link_state'           # robopuppet_msgs/LinkState (arm_X)
 # Relative to sim_ns(side): the simulated puppet's operator topics (puppet_sim_X), and what it
 # shows of the device for tests and the GUI.
 SIM_HAND, SIM_BUTTON, SIM_GRIPPERS, SIM_CONTROL = 'hand', 'button', 'grippers', 'control'
@@ -63,6 +66,7 @@ DIAGNOSTICS = '/diagnostics'
 # name ends with what it is about, so a reader finds it without knowing the node's name.
 DIAG_LINK = 'puppet serial link'   # serial_X
 DIAG_TELEOP = 'teleoperation'      # arm_X
+DIAG_NETWORK = 'operator-robot link'  # arm_X: the link between the two hosts
 DEFAULT_SIM_LINK = '/tmp/robopuppet_arm_%s'  # % side: the simulated puppet's pty link
 
 # ---- Baxter's own API (Rethink's names: the real robot's, served by baxter_sim too) -----------

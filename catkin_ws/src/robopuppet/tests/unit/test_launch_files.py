@@ -14,14 +14,14 @@ LAUNCH_DIR = os.path.join(os.path.dirname(__file__), '..', '..', 'launch')
 TEST_DIR = os.path.join(os.path.dirname(__file__), '..', 'integration')
 LAUNCH = os.path.join(LAUNCH_DIR, 'arm.launch')
 LAUNCH_FILES = ('arm.launch', 'puppet.launch', 'main_sim.launch', 'baxter_sim.launch',
-                'ghost.launch', 'display_real.launch', 'recorder.launch')
+                'ghost.launch', 'recorder.launch', 'operator.launch', 'robot.launch')
 # The seed's Table 5 defaults, but frame_rate: 30 Hz (pyqtgraph) where the 2020 Tk GUI used 8.
 TABLE_5 = {'arm_side': 'L', 'port_name': '/dev/ttyACM0', 'comm_rate': '10.0',
            'frame_rate': '30.0', 'debug_mode': 'true'}
 # An argument that an including file declares again, with a default of its own on purpose.
 OVERRIDES = {('main_sim.launch', 'run_side_L'): 'the simulated system runs the right arm only',
              ('puppet.launch', 'gui'): 'arm.launch alone opens no GUI; puppet.launch one per arm',
-             ('main_sim.launch', 'record_sides'): 'the simulated system records the arms it runs'}
+             ('operator.launch', 'record_sides'): 'the operator host records the arms it runs'}
 
 
 def load_config(*args, launch=LAUNCH):
@@ -81,7 +81,8 @@ def test_each_default_is_declared_in_one_launch_file():
 def test_each_deliberate_override_differs_from_the_default_it_overrides():
     defaults, includes = declared_defaults(LAUNCH_DIR)
     for name, arg in OVERRIDES:
-        overridden = {defaults[c][arg] for c in below(name, includes) if arg in defaults[c]}
+        overridden = {defaults[c][arg] for c in below(name, includes)
+                      if arg in defaults.get(c, {})}
         assert overridden and defaults[name][arg] not in overridden, (name, arg)
 
 
@@ -102,16 +103,22 @@ def test_the_comm_rate_default_is_the_firmwares_rate_of_the_interface_table():
 @pytest.mark.parametrize('launch, args, sides', [
     ('main_sim.launch', ['comm_rate:=5', 'rviz:=false', 'gui:=false'], 'R'),
     ('main_sim.launch', ['comm_rate:=5', 'run_side_L:=true', 'rviz:=false', 'gui:=false'], 'LR'),
-    ('puppet.launch', ['comm_rate:=5', 'sim_puppet:=true', 'gui:=false'], 'LR'),
+    ('operator.launch', ['comm_rate:=5', 'sim_puppet:=true', 'gui:=false'], ''),
+    ('robot.launch', ['comm_rate:=5'], 'LR'),
     ('arm.launch', ['comm_rate:=5', 'arm_side:=R', 'sim_puppet:=true'], 'R'),
 ])
 def test_comm_rate_reaches_the_serial_node_the_simulator_and_the_arm_controller(launch, args,
                                                                                 sides):
     nodes, params = load(*args, launch=os.path.join(LAUNCH_DIR, launch))
     for side in sides:
-        for name in ('/serial_%s/comm_rate', '/puppet_sim_%s/state_rate', '/arm_%s/comm_rate'):
+        assert params['/arm_%s/comm_rate' % side] == 5
+    for side in sides if launch != 'robot.launch' else '':
+        for name in ('/serial_%s/comm_rate', '/puppet_sim_%s/state_rate'):
             assert params[name % side] == 5, name % side
     assert {n for n in nodes if n.startswith('arm_')} == {'arm_' + s for s in sides}
+    if launch == 'operator.launch':
+        for side in 'LR':
+            assert params['/serial_%s/comm_rate' % side] == 5
 
 
 @pytest.mark.parametrize('side', ['L', 'R'])
@@ -172,7 +179,7 @@ def test_the_recorder_records_the_arms_that_run(launch, args, sides, sim):
     assert params['/recorder/episodes_dir'] == '/tmp/ep'
 
 
-@pytest.mark.parametrize('launch', ['main_sim.launch', 'display_real.launch'])
+@pytest.mark.parametrize('launch', ['main_sim.launch', 'operator.launch'])
 def test_the_ghost_has_a_prefixed_description_and_its_own_state_publisher(launch):
     config = load_config('rviz:=false', 'gui:=false', launch=os.path.join(LAUNCH_DIR, launch))
     nodes = {(n.namespace, n.name): n for n in config.nodes}
@@ -187,9 +194,11 @@ def test_the_ghost_has_a_prefixed_description_and_its_own_state_publisher(launch
     assert target.find('link').get('name').startswith('target/')
     assert config.params['/target/ghost/prefix'].value == 'target/'
     assert config.params['/target/ghost/target_topic'].value == procedure.TARGET_TOPIC
-    if launch == 'display_real.launch':  # the real robot publishes its own description
+    if launch == 'operator.launch':  # the robot host (or Baxter) publishes the description
         assert '/robot_description' not in config.params
-        assert 'real_robot.rviz' in nodes[('/', 'rviz')].args
+        rviz, = (n for n in load_config(launch=os.path.join(LAUNCH_DIR, launch)).nodes
+                 if n.name == 'rviz')
+        assert 'real_robot.rviz' in rviz.args
 
 
 def test_main_sim_passes_its_arguments_on_as_run_sh_gives_them():
@@ -204,15 +213,40 @@ def test_main_sim_passes_its_arguments_on_as_run_sh_gives_them():
     assert params['/gui_R/sim_puppet'] is True
 
 
-def test_puppet_launch_gives_each_side_its_own_port():
-    nodes, params = load('gui:=false', launch=os.path.join(LAUNCH_DIR, 'puppet.launch'))
-    assert {'serial_L', 'serial_R', 'arm_L', 'arm_R'} <= set(nodes)
+def test_the_operator_host_gives_each_side_its_own_port():
+    nodes, params = load('gui:=false', 'rviz:=false',
+                         launch=os.path.join(LAUNCH_DIR, 'operator.launch'))
+    assert {'serial_L', 'serial_R', 'config_L', 'config_R'} <= set(nodes)
     assert 'puppet_sim_L' not in nodes and 'gui_L' not in nodes
     assert params['/serial_L/port_name'] != params['/serial_R/port_name']
+    assert params['/recorder/sides'] == 'LR'
     nodes, params = load('run_side_L:=false', 'port_R:=/dev/ttyACM0',
-                         launch=os.path.join(LAUNCH_DIR, 'puppet.launch'))
-    assert {'serial_R', 'arm_R', 'gui_R'} <= set(nodes) and 'serial_L' not in nodes
+                         launch=os.path.join(LAUNCH_DIR, 'operator.launch'))
+    assert {'serial_R', 'gui_R', 'rviz'} <= set(nodes) and 'serial_L' not in nodes
     assert params['/serial_R/port_name'] == '/dev/ttyACM0'
+    assert params['/recorder/sides'] == 'R'
+
+
+@pytest.mark.parametrize('launch, args, runs', [
+    ('operator.launch', ['sim_puppet:=true'],
+     {'config_L', 'serial_L', 'puppet_sim_L', 'gui_L', 'recorder', 'rviz', 'ghost'}),
+    ('robot.launch', [], {'arm_L', 'arm_R', 'baxter_sim', 'robot_state_publisher'}),
+    ('robot.launch', ['sim_robot:=false', 'run_side_L:=false'], {'arm_R'}),
+])
+def test_each_host_runs_its_own_nodes_only(launch, args, runs):
+    config = load_config(*args, launch=os.path.join(LAUNCH_DIR, launch))
+    nodes = {n.name for n in config.nodes}
+    assert runs <= nodes
+    if launch == 'operator.launch':  # arm_X decides on the robot host, beside Baxter
+        assert not any(n.startswith('arm_') or n == 'baxter_sim' for n in nodes)
+    else:
+        assert nodes == runs  # nothing of the operator's: no serial, config, GUI or RViz
+    assert ('/robot_description' in config.params) == ('baxter_sim' in nodes)
+
+
+def test_an_unknown_host_is_refused_by_name():
+    with pytest.raises(Exception, match='host:=kitchen is not operator, robot or both'):
+        load('host:=kitchen')
 
 
 @pytest.mark.parametrize('path', sorted(
