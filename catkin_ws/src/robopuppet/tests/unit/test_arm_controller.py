@@ -1,5 +1,6 @@
 """arm_X's decisions (robopuppet.arm.controller): steps, actions, report, the command loop's
-health; fed as the node feeds it, with time passed in."""
+health; fed as the node feeds it, with time passed in. The operator host's clock runs
+OPERATOR_OFFSET_S ahead of the robot's, and answers the controller's pings (see Rig)."""
 import pytest
 
 from robopuppet import baxter_description, interface, settings
@@ -8,6 +9,8 @@ from robopuppet.periodic import Guard
 
 LIMITS = {side: baxter_description.arm_limits(side) for side in interface.BAXTER_SIDES}
 PERIOD_S = 0.01
+ROBOT_CLOCK_S = 1000.0       # the robot host's ROS clock at t = 0
+OPERATOR_OFFSET_S = 37.5     # the operator host's clock minus the robot host's
 POSE = {side: [baxter_description.NEUTRAL_POSE[s] for s in baxter_description.ARM_JOINT_SUFFIXES]
         for side in interface.BAXTER_SIDES}
 
@@ -15,29 +18,53 @@ POSE = {side: [baxter_description.NEUTRAL_POSE[s] for s in baxter_description.AR
 class Rig:
     """An ArmController of puppet R with a clock; Baxter and the puppet report as asked."""
 
-    def __init__(self, comm_rate_hz=10.0, side='R'):
+    def __init__(self, comm_rate_hz=10.0, side='R', echo=True):
         self.guard = Guard('arm_' + side, lambda text: None)
         self.core = controller.ArmController(
             side, LIMITS, timing.state_timeout(comm_rate_hz), interface.HEARTBEAT_TIMEOUT_S,
-            0.5, PERIOD_S, self.guard, 0.0)
+            0.5, PERIOD_S, self.guard, 0.0,
+            timing.sample_age_bound(timing.DEFAULT_MAX_SAMPLE_AGE_S))
         self.t = 0.0
+        self.echo = echo   # the operator host answers pings at once (2 ms each way)
+        self.enabled = True
+        self.echo_t = None   # when the newest echo came
+
+    def now_s(self):
+        """Return the robot host's ROS clock (s)."""
+        return ROBOT_CLOCK_S + self.t
+
+    def operator_s(self, ago_s=0.0):
+        """Return the operator host's clock (s) ago_s seconds ago."""
+        return self.now_s() - ago_s + OPERATOR_OFFSET_S
+
+    def link(self):
+        """Send a ping if one is due; the operator host answers it when echo is on."""
+        ping = self.core.ping(self.t, self.now_s())
+        if ping and self.echo:
+            seq, sent_s = ping
+            assert self.core.on_echo(self.t, sent_s + 0.004, seq, sent_s,
+                                     sent_s + 0.002 + OPERATOR_OFFSET_S) == ''
+            self.echo_t = self.t
 
     def baxter(self, enabled=True):
-        self.core.baxter.on_robot_state(self.t, enabled, False, False)
+        self.core.baxter.on_robot_state(self.t, enabled and self.enabled, False, False)
         names = sum((baxter_description.arm_joint_names(s) for s in interface.BAXTER_SIDES), [])
         self.core.on_robot_joints(self.t, names, POSE['left'] + POSE['right'], [], 0.0)
 
-    def puppet(self, statuses=interface.WORKING):
+    def puppet(self, statuses=interface.WORKING, angles=None, age_s=0.0):
+        """Send the puppet's joint states, age_s old on arrival."""
         for joint in settings.JOINTS:
             self.core.on_status(self.t, joint, statuses)
         self.core.teleop.on_heartbeat(self.t)
-        return self.core.on_joint_states(self.t, settings.JOINT_NAMES, POSE['right'])
+        return self.core.on_joint_states(self.t, settings.JOINT_NAMES, angles or POSE['right'],
+                                         self.operator_s(age_s), self.now_s())
 
-    def step(self, dt=PERIOD_S, puppet=True):
+    def step(self, dt=PERIOD_S, puppet=True, angles=None, age_s=0.0):
         self.t += dt
         self.baxter()
+        self.link()
         if puppet:
-            self.puppet()
+            self.puppet(angles=angles, age_s=age_s)
         out = self.core.step(self.t)
         self.core.done(self.t)
         return out
@@ -136,11 +163,14 @@ def test_a_gripper_that_follows_the_puppet_closed_is_not_calibrated():
 
 def test_refused_and_non_finite_joint_states_are_counted_and_explained():
     rig = ready()
-    taken, problem = rig.core.on_joint_states(rig.t, ['joint_0'], [0.0])
+    taken, problem = rig.core.on_joint_states(rig.t, ['joint_0'], [0.0], rig.operator_s(),
+                                              rig.now_s())
     assert not taken and 'refused (1 so far)' in problem and 'joint_1' in problem
     angles = list(POSE['right'])
     angles[4] = float('nan')
-    taken, problem = rig.core.on_joint_states(rig.t, settings.JOINT_NAMES, angles)
+    rig.t += PERIOD_S   # a new stamp: the same one again would be out of order
+    taken, problem = rig.core.on_joint_states(rig.t, settings.JOINT_NAMES, angles,
+                                              rig.operator_s(), rig.now_s())
     assert taken and 'non-finite joint_4' in problem
     assert dict(report_in(rig.step(0.5)).values)['refused_joint_states'] == '1'
 

@@ -1,4 +1,4 @@
-"""arm_X: drives Baxter from one puppet arm through Baxter's own API (arm.controller decides)."""
+"""arm_X (robot host): drives Baxter from one puppet arm through Baxter's API (arm.controller)."""
 import functools
 import threading
 import time
@@ -11,7 +11,7 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool, Empty, Float32, String, UInt8
 
 from robopuppet import baxter_description, interface as ifc, params, settings
-from robopuppet.arm import baxter_upkeep, controller, teleop, timing
+from robopuppet.arm import baxter_upkeep, controller, link_topics, teleop, timing
 from robopuppet.periodic import Guard, Loop
 from robopuppet_msgs.msg import TeleopState
 
@@ -37,10 +37,17 @@ class ArmNode:
       Publishes: /robot/limb/<side>/joint_command (position mode), /robot/set_super_enable,
         /robot/end_effector/<side>_gripper/command, <ns>/opmode, <ns>/joint_J/setpoint,
         <ns>/teleop_state (latched), /diagnostics (name 'arm_X: teleoperation', hardware_id <ns>).
+      The link to the operator host (arm.link_topics): publishes <ns>/link_ping
+        (robopuppet_msgs/LinkPing, 10 Hz, tcp_nodelay) and subscribes <ns>/link_echo (serial_X
+        answers each ping with its own clock); publishes <ns>/link_state (robopuppet_msgs/
+        LinkState, 5 Hz) and /diagnostics (name 'arm_X: operator-robot link', hardware_id <ns>).
       Parameters: ~arm_side ('L' or 'R', required), ~command_rate (Hz, 100, at least 10),
         ~comm_rate (Hz, 10: the puppet's state-set rate; the state timeout follows from it, see
         arm.timing), ~heartbeat_timeout (s, 2.5), ~approach_speed (rad/s, 0.5, capped per joint
-        by the URDF's velocity limit).
+        by the URDF's velocity limit), ~max_sample_age (s, 0.35: a puppet sample older than this
+        on arrival is refused and stops Baxter following, so that Baxter never follows more
+        than 0.5 s late, yet a TCP retransmission at 10 Hz passes; see arm.timing; before the
+        first echo, and 3 s after the last, no age is known: nothing follows).
     """
 
     def __init__(self):
@@ -48,13 +55,15 @@ class ArmNode:
         self._name, ns = 'arm_' + side, ifc.puppet_ns(side)
         self._period_s = 1.0 / param('command_rate', 100.0, MIN_COMMAND_RATE_HZ)
         rate = timing.state_timeout(param('comm_rate', ifc.DEFAULT_COMM_RATE_HZ))
-        (rospy.loginfo if rate.meets_stop else rospy.logwarn)('%s: %s', self._name,
-                                                               rate.describe())
+        bound = timing.sample_age_bound(param('max_sample_age', timing.DEFAULT_MAX_SAMPLE_AGE_S))
+        for told in (rate, bound):
+            (rospy.loginfo if told.meets_stop else rospy.logwarn)('%s: %s', self._name,
+                                                                   told.describe())
         self._lock, self._guard = threading.Lock(), Guard(self._name, rospy.logerr)
         self._core = core = controller.ArmController(
             side, {s: baxter_description.arm_limits(s) for s in ifc.BAXTER_SIDES}, rate,
             param('heartbeat_timeout', ifc.HEARTBEAT_TIMEOUT_S), param('approach_speed', 0.5),
-            self._period_s, self._guard, time.monotonic())
+            self._period_s, self._guard, time.monotonic(), bound)
         pub, sub = (functools.partial(f, queue_size=10) for f in (rospy.Publisher,
                                                                   rospy.Subscriber))
         arm = {s: pub(ifc.limb_topic(s, 'joint_command'), JointCommand, tcp_nodelay=True)
@@ -80,8 +89,8 @@ class ArmNode:
         for j in settings.JOINTS:
             sub(ifc.joint_topic(side, j, 'enc_stat'), String,
                 lambda m, j=j: call(core.on_status, j, m.data))
-        sub(ns + '/' + ifc.JOINT_STATES, JointState, lambda m: call(self._on_joint_states, m),
-            tcp_nodelay=True)
+        sub(ns + '/' + ifc.JOINT_STATES, JointState, lambda m: call(  # received: before the lock
+            self._on_joint_states, m, link_topics.ros_now_s()), tcp_nodelay=True)
         sub(ns + '/' + ifc.HEARTBEAT, Empty, lambda m: call(tp.on_heartbeat))
         sub(ns + '/' + ifc.USER_BUTTON, UInt8, lambda m: call(tp.on_button, m.data))
         sub(ifc.gripper_topic(side, ifc.END_PIECE_GRIPPER), Float32,
@@ -98,7 +107,9 @@ class ArmNode:
                 lambda m, s=s: call(self._on_gripper_state, s, m), queue_size=1)
         self._loops = [Loop(self._guard, 'command loop', self._period_s / 2,
                             lambda: call(self._on_timer)),
-                       Loop(self._guard, 'watchdog', WATCHDOG_PERIOD_S, self._watch)]
+                       Loop(self._guard, 'watchdog', WATCHDOG_PERIOD_S, self._watch),
+                       link_topics.LinkTopics(ns, core, call, self._guard, self._name).loop]
+        core.done(time.monotonic())  # the stall watch counts from here, not from the set-up
         for loop in self._loops:
             loop.start()
         rospy.on_shutdown(lambda: [loop.stop() for loop in self._loops])
@@ -108,8 +119,9 @@ class ArmNode:
         with self._lock:
             return method(time.monotonic(), *args)
 
-    def _on_joint_states(self, now, msg):
-        taken, problem = self._core.on_joint_states(now, msg.name, msg.position)
+    def _on_joint_states(self, now, msg, received_s):
+        taken, problem = self._core.on_joint_states(now, msg.name, msg.position,
+                                                    msg.header.stamp.to_sec(), received_s)
         if problem:
             rospy.logwarn_throttle(5, '%s: %s', self._name, problem)
         if taken:  # act on fresh data at once

@@ -2,15 +2,21 @@
 carries out what it returns (time in s is an argument, no rospy, no messages).
 
 It holds the teleop state machine (robopuppet.arm.teleop), Baxter's upkeep (presence, enabling,
-gripper calibration: robopuppet.arm.baxter_upkeep), the puppet's encoder statuses, the pace of
+gripper calibration: robopuppet.arm.baxter_upkeep), the operator-robot link (pings, echoes, the
+age of each puppet sample: robopuppet.arm.link_watch), the puppet's encoder statuses, the pace of
 the command stream, the command loop's health and the teleop report (teleop_state and
 /diagnostics).
+
+Two clocks: `t` (monotonic s) paces teleop; `now_s` (the robot host's ROS clock, s) is the one
+pings carry and puppet samples are aged on.
 """
 import collections
 
 from robopuppet import baxter_description, settings
 from robopuppet.arm.baxter_upkeep import BaxterUpkeep
 from robopuppet.arm.baxter_watch import MAX_EXTRAPOLATION_S
+from robopuppet.arm.link_clock import Refused
+from robopuppet.arm.link_watch import STALE_KINDS, LinkWatch
 from robopuppet.arm.readings import arm_poses, joint_angles, non_finite_joints
 from robopuppet.arm.teleop import Grip, Teleop
 from robopuppet.interface import (BAXTER_SIDES, CALIBRATING, DIAG_TELEOP, DISCONNECTED, FAULT,
@@ -47,15 +53,17 @@ class ArmController:
         command_period_s: the command stream's period (s).
         guard: the node's robopuppet.periodic.Guard (its errors go into the report).
         t: the time (s) at the start.
+        age_bound: the timing.AgeBound on puppet samples' age.
     """
 
     def __init__(self, side, limits, timing, heartbeat_timeout_s, approach_speed_rad_s,
-                 command_period_s, guard, t):
+                 command_period_s, guard, t, age_bound):
         self.teleop = Teleop(side, limits, state_timeout_s=timing.timeout_s,
                              heartbeat_timeout_s=heartbeat_timeout_s,
                              approach_speed_rad_s=approach_speed_rad_s,
                              command_period_s=command_period_s)
         self.baxter = BaxterUpkeep()
+        self.link = LinkWatch(side, age_bound, timing.timeout_s)
         self.timing = timing
         self.command_period_s = command_period_s
         self.guard = guard
@@ -74,10 +82,13 @@ class ArmController:
         """Take a joint's encoder status (interface.ENC_STATUS)."""
         self._statuses[joint] = status
 
-    def on_joint_states(self, t, names, positions):
-        """Take the puppet's joint states; return (taken, a warning to log or '').
+    def on_joint_states(self, t, names, positions, stamp_s, now_s):
+        """Take the puppet's joint states, stamped stamp_s (operator clock) and received at
+        now_s (robot clock); return (taken, a warning to log or '').
 
-        A message without joint_0..joint_6 is refused (not taken) and counted.
+        A message without joint_0..joint_6 is refused (not taken) and counted; so is one that
+        link_watch does not let through (too old or of unknown age: the stream is stale, which
+        teleop takes as a silent puppet; out of order).
         """
         try:
             angles = joint_angles(names, positions)
@@ -85,6 +96,12 @@ class ArmController:
             self.refused_states += 1
             return False, 'puppet joint_states refused (%d so far): %s' % (
                 self.refused_states, error)
+        try:
+            self.link.take(now_s, stamp_s)
+        except Refused as refusal:
+            self.teleop.on_refused(t, str(refusal), refusal.kind in STALE_KINDS)
+            return False, 'puppet joint_states refused (%d %s so far): %s' % (
+                self.link.refused[refusal.kind], refusal.kind, refusal)
         self.teleop.on_joint_states(t, list(self._statuses), angles)
         bad = non_finite_joints(angles)
         return True, ('puppet joint_states with non-finite %s: each such joint keeps its last '
@@ -98,6 +115,10 @@ class ArmController:
         self.baxter.on_robot_joints(t)
         poses, speeds = arm_poses(names, positions, velocities, self.joint_names)
         self.teleop.on_robot_pose(t - age_s, poses, speeds)
+
+    def on_echo(self, t, now_s, seq, sent_s, echoed_s):
+        """Take a link echo that arrived at now_s; return '' or why it was ignored (to log)."""
+        return self.link.clock.on_echo(now_s, seq, sent_s, echoed_s)
 
     def on_gripper_state(self, t, side, gripper_id, calibrated):
         """Take a gripper's state; return the actions it calls for ([] or a calibrate)."""
@@ -131,6 +152,14 @@ class ArmController:
         report = self._report(t)
         return actions + [report] if report else actions
 
+    def ping(self, t, now_s):
+        """Return (seq, sent_s) of the link ping to send now, or None when none is due."""
+        return self.link.clock.ping(now_s)
+
+    def link_report(self, t, now_s):
+        """Return the link_watch.LinkReport when one is due, else None."""
+        return self.link.report(now_s, self.teleop.state != NO_ROBOT)
+
     def done(self, t):
         """Take that the step at t was carried out completely."""
         self.last_step_t = t
@@ -162,9 +191,9 @@ class ArmController:
             return None
         self._reported, self._report_t = snapshot, t
         level, message = DIAG_LEVEL[tp.state], '%s: %s' % (tp.state, tp.detail)
-        if not self.timing.meets_stop:
+        for late in (x for x in (self.timing, self.link.bound) if not x.meets_stop):
             level = max(level, 'WARN', key=LEVELS.index)
-            message += '; ' + self.timing.describe()
+            message += '; ' + late.describe()
         values = [
             ('state', tp.state), ('follow_left', follow_left), ('follow_right', follow_right),
             ('opmode', tp.opmode),
@@ -172,6 +201,7 @@ class ArmController:
             ('comm_rate_hz', '%g' % self.timing.comm_rate_hz),
             ('state_timeout_s', '%.2f' % self.timing.timeout_s),
             ('stop_within_s', '%.2f' % self.timing.stop_s),
+            ('max_sample_age_s', '%.2f' % self.link.bound.bound_s),
             ('ignored_angles', tp.puppet.ignored_angles),
             ('ignored_robot_poses', tp.robot.ignored_poses),
             ('refused_joint_states', self.refused_states),

@@ -1,12 +1,15 @@
 """What one puppet arm's stream tells arm_X: its newest valid angles, silence, calibration (pure).
 
 Time is an argument. Teleop asks it whether the puppet has gone silent (no joint states or no
-heartbeat for too long), whether data came back after a fault, and which joints keep Baxter from
-following (encoders not Working, or no valid angle yet).
+heartbeat for too long, or a stale stream: joint states refused as too old, or of unknown age,
+since the newest usable ones), whether data came back after a fault, and which joints keep
+Baxter from following (encoders not Working, or no valid angle yet).
 """
 import math
 
 from robopuppet.interface import UNCALIBRATED, WORKING
+
+REFUSED = 'puppet joint states refused'   # how a stale stream's silence begins
 
 
 class PuppetWatch:
@@ -21,6 +24,8 @@ class PuppetWatch:
     def __init__(self, state_timeout_s, heartbeat_timeout_s):
         self.state_timeout_s = state_timeout_s
         self.heartbeat_timeout_s = heartbeat_timeout_s
+        self.refusal = None         # (time, why) of the newest refused joint states
+        self._refused = self._stale = None  # why, since the newest usable joint states
         self.angles = None          # newest finite angle per joint (rad), None: never
         self.statuses = []          # newest encoder statuses
         self.state_t = None         # time of the newest joint states, None: never heard from
@@ -43,8 +48,17 @@ class PuppetWatch:
                 self.ignored_angles += 1
         self.statuses = list(statuses)
         self.state_t = t
+        self._refused = self._stale = None
         if self._first_state_t is None:
             self._first_state_t = t
+
+    def on_refused(self, t, why, stale=False):
+        """Take joint states that may not be used (why: the reason); stale: they are too old or
+        of unknown age, so the stream is stale until usable ones come."""
+        self.refusal = (t, why)
+        self._refused = why
+        if stale:
+            self._stale = why
 
     def on_heartbeat(self, t):
         """Take a heartbeat."""
@@ -62,8 +76,12 @@ class PuppetWatch:
         """Return why the puppet counts as silent at time t, or None (also before any data)."""
         if self.state_t is None:
             return None
+        if self._stale:
+            return '%s: %s' % (REFUSED, self._stale)
         if t - self.state_t > self.state_timeout_s:
-            return 'no joint states from the puppet for %.2f s' % (t - self.state_t)
+            return 'no joint states from the puppet for %.2f s%s' % (
+                t - self.state_t, '; newer ones refused: %s' % self._refused
+                if self._refused else '')
         if t - self._heartbeat_ref() > self.heartbeat_timeout_s:
             return 'no heartbeat from the puppet for %.2f s' % (t - self._heartbeat_ref())
         return None

@@ -11,11 +11,11 @@ has sent a valid angle; every command is clamped to Baxter's joint limits and mo
 speed (a slow approach when following starts far from the puppet, then at most the joint's
 velocity limit, see joint_motion.SpeedBudget; no speed parameter can exceed the URDF's limit);
 non-finite angles are ignored, and a Baxter pose outside its joint limits is not believed; when
-an arm stops following (the puppet's joint states or heartbeat stop, a joint loses calibration,
-a press, the arm controller itself fails) the arm is commanded to stay where Baxter measures it
-at once, so it does not coast on to a stale target, and following resumes only after fresh data
-and a new press; a Baxter arm that the other puppet drives is not taken, and if both puppets
-claim one at once, both let it go.
+an arm stops following (the puppet's joint states or heartbeat stop or arrive too old to use, a
+joint loses calibration, a press, the arm controller itself fails) the arm is commanded to stay
+where Baxter measures it at once, so it does not coast on to a stale target, and following
+resumes only after fresh data and a new press; a Baxter arm that the other puppet drives is not
+taken, and if both puppets claim one at once, both let it go.
 """
 import collections
 import math
@@ -23,7 +23,7 @@ import math
 from robopuppet.arm import timing
 from robopuppet.arm.baxter_watch import BaxterWatch
 from robopuppet.arm.joint_motion import SpeedBudget, clamp, mirror
-from robopuppet.arm.puppet_watch import PuppetWatch
+from robopuppet.arm.puppet_watch import REFUSED, PuppetWatch
 from robopuppet.interface import (BAXTER_SIDE, BAXTER_SIDES, BUTTON_HOLD, BUTTON_LEFT,
                                   BUTTON_RIGHT, CALIBRATING, FAULT, FOLLOWING,
                                   HEARTBEAT_TIMEOUT_S, HOLD, LIMP, NO_ROBOT, READY, check_side)
@@ -83,6 +83,8 @@ class Teleop:
         track_tolerance_rad: the approach ends when every joint is this close to the target.
         command_period_s: the nominal time between commands; the speed budget holds this much
             motion, so one command may carry speed x command_period_s at once.
+    Joint states that may not be used (too old, of unknown age, out of order) go to on_refused;
+    too old or of unknown age (stale=True), the puppet counts as silent until usable ones come.
     """
 
     def __init__(self, puppet_side, limits, state_timeout_s=timing.DEFAULT.timeout_s,
@@ -101,7 +103,7 @@ class Teleop:
         self.following = {side: False for side in BAXTER_SIDES}
         self.tracking = {side: False for side in BAXTER_SIDES}  # False while approaching
         self.gripper_closed = False
-        self._fault_t = None
+        self._fault_t = self._fault_why = None
         self._robot_ok = False
         self._motion = {}          # side -> SpeedBudget holding the last command
         self._claim_t = {side: None for side in BAXTER_SIDES}  # the other puppet's last claim
@@ -112,6 +114,7 @@ class Teleop:
         self._failure = None       # why the arm controller failed, until the next step
         # Inputs about the puppet's stream and Baxter's pose go to self.puppet and self.robot.
         self.on_joint_states = self.puppet.on_joint_states
+        self.on_refused = self.puppet.on_refused
         self.on_heartbeat = self.puppet.on_heartbeat
         self.heartbeat_age = self.puppet.heartbeat_age
         self.on_robot_pose = self.robot.on_robot_pose
@@ -154,11 +157,14 @@ class Teleop:
         if new is None:
             if self.state == CALIBRATING and event == 'uncalibrated':
                 self.detail = detail  # which joints are still missing
+            elif self.state == FAULT and event == 'refused' and self.detail == self._fault_why \
+                    and not self._fault_why.startswith(REFUSED):   # it says so already
+                self.detail = '%s; %s since: %s' % (self._fault_why, REFUSED, detail)
             return
         if new in STOP_FOLLOWING:
             self.following = {side: False for side in BAXTER_SIDES}
         if new == FAULT:
-            self._fault_t = self._last_step_t
+            self._fault_t, self._fault_why = self._last_step_t, detail
         self.state = new
         self.detail = detail
 
@@ -177,6 +183,11 @@ class Teleop:
             yield 'silent', silent
         elif self.state == FAULT and self.puppet.fresh_since(self._fault_t):
             yield 'fresh', 'puppet data is back; press 2 or 3 to follow again'
+        if self.state == FAULT and (self.puppet.refusal or (-math.inf,))[0] > self._fault_t:
+            yield 'refused', self.puppet.refusal[1]   # why fresh data is not back
+        if self.puppet.state_t is None and self.puppet.refusal is not None:
+            yield 'uncalibrated', 'no usable puppet joint states yet: %s' % (
+                self.puppet.refusal[1])
         if self.puppet.state_t is not None and not silent:
             waiting = self.puppet.not_calibrated()
             if waiting:

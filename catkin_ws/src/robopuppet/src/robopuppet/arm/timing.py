@@ -10,6 +10,25 @@ At 10 Hz and above that stop comes within interface.STOP_WITHIN_S (0.5 s). Below
 cannot hold (at 2 Hz one period alone is 0.5 s): the timeout keeps its margin, since a controller
 that faults between normal state sets stops Baxter at random and is of no use, and the stop takes
 longer; StateTimeout.describe() says by how much, and arm_X logs it and shows it in /diagnostics.
+
+With the puppet on another host (two rooms, one network) a stream can also arrive steadily but
+late. arm_X therefore also bounds the age of each puppet sample on arrival (measured on the robot
+clock: robopuppet.arm.link_clock): an older sample is refused, and as soon as one arrives the
+stream is stale (its newest usable sample is older still) and counts as silent. The default,
+DEFAULT_MAX_SAMPLE_AGE_S = 0.35 s, is reasoned out as follows:
+
+- Baxter never follows the puppet more than 0.5 s late (interface.STOP_WITHIN_S): a used sample
+  is at most 0.35 s old, plus MAX_CLOCK_ERROR_S (0.05 s: the operator clock's offset is known to
+  half a round trip, and arm_X trusts it only to 0.05 s), and reaches Baxter by the next command
+  step (STOP_AFTER_TIMEOUT_S, 0.1 s). A link that fails stops Baxter within 0.5 s as well: no
+  usable sample for the state timeout (0.4 s at 10 Hz) is silence, and a delay that grows past
+  the bound but stays under the state timeout shows with its first late sample.
+- A working link passes: at 10 Hz TCP on a path with 1 % loss holds a sample back by a
+  retransmission (Linux's minimum retransmission timeout is 0.2 s, plus up to one state period
+  of 0.1 s until the loss shows): at most about 0.3 s, and 50 ms are left for latency and jitter.
+  A longer hold-up (a second retransmission) faults the teleop: on the safe side.
+- On the robot host the bound does not depend on comm_rate: a sample's age is counted from its
+  stamp to its arrival, not across the gap to the next one (the state timeout covers gaps).
 """
 import collections
 import math
@@ -21,6 +40,10 @@ MIN_STATE_TIMEOUT_S = 0.2    # scheduling jitter of the serial and arm nodes on 
 # From silence detected to Baxter holding still: the next command step (at most one period of
 # the slowest allowed command rate, 10 Hz) sends the stay command, Baxter takes it at once.
 STOP_AFTER_TIMEOUT_S = 0.1
+# arm_X trusts the operator clock's estimated offset only when it is known to this much (half
+# the shortest round trip of recent pings, robopuppet.arm.link_clock).
+MAX_CLOCK_ERROR_S = 0.05
+DEFAULT_MAX_SAMPLE_AGE_S = round(STOP_WITHIN_S - STOP_AFTER_TIMEOUT_S - MAX_CLOCK_ERROR_S, 6)
 
 
 class StateTimeout(collections.namedtuple('StateTimeout', 'comm_rate_hz timeout_s stop_s')):
@@ -70,3 +93,40 @@ def lowest_rate_meeting_stop_hz():
 
 
 DEFAULT = state_timeout(DEFAULT_COMM_RATE_HZ)  # at the 2020 firmware's 10 Hz: 0.4 s
+
+
+class AgeBound(collections.namedtuple('AgeBound', 'bound_s late_s')):
+    """The bound on a puppet sample's age on arrival.
+
+    Fields:
+        bound_s: an older sample is refused and makes the stream stale (s).
+        late_s: Baxter follows the puppet at most this late: the bound, the clock's error and
+            a command step (s).
+    """
+
+    __slots__ = ()
+
+    @property
+    def meets_stop(self):
+        """Return whether Baxter follows within interface.STOP_WITHIN_S of the puppet."""
+        return self.late_s <= STOP_WITHIN_S + 1e-9
+
+    def describe(self):
+        """Return what the bound means; it says so when Baxter may follow too late."""
+        text = 'puppet samples older than %.2f s on arrival are refused: ' % self.bound_s
+        if self.meets_stop:
+            return text + 'Baxter follows the puppet at most %.2f s late' % self.late_s
+        return text + 'Baxter may follow the puppet %.2f s late, not within %.2f s' % (
+            self.late_s, STOP_WITHIN_S)
+
+
+def sample_age_bound(max_sample_age_s):
+    """Return the AgeBound for ~max_sample_age (s).
+
+    Raises:
+        ValueError: it is not a finite positive number.
+    """
+    if not (math.isfinite(max_sample_age_s) and max_sample_age_s > 0.0):
+        raise ValueError('max_sample_age must be a positive number, got %r' % (max_sample_age_s,))
+    return AgeBound(float(max_sample_age_s),
+                    max_sample_age_s + MAX_CLOCK_ERROR_S + STOP_AFTER_TIMEOUT_S)

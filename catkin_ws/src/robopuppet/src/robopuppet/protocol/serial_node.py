@@ -12,7 +12,7 @@ from robopuppet.periodic import Guard
 from robopuppet.protocol import state_output as out
 from robopuppet.protocol.serial_core import LinkFacts, SerialCore
 from robopuppet.protocol.serial_link import SerialLink
-from robopuppet_msgs.msg import ArmSettings
+from robopuppet_msgs.msg import ArmSettings, LinkPing
 
 OPEN_RETRY_S = 0.5  # pause between attempts to open a missing or lost port
 
@@ -31,6 +31,9 @@ class SerialNode:
         /diagnostics (1 Hz): status '<node>: puppet serial link', hardware_id <ns>.
     Subscribes: stored_settings (robopuppet_msgs/ArmSettings, latched, from config_X), opmode
         (std_msgs/String: limp or hold), joint_J/setpoint (std_msgs/Float32, rad).
+    Echoes: each link_ping (robopuppet_msgs/LinkPing from arm_X on the robot host) goes back at
+        once on link_echo with `echoed` = this node's rospy.Time.now(), both tcp_nodelay. This is
+        the node that stamps joint_states, so arm_X measures the clock that stamps the samples.
     Parameters: ~arm_side (str, required: L or R); ~port_name (str, default /dev/ttyACM0);
         ~baud_rate (int, default 115200); ~joint_topic_rate (float, default 100.0 Hz: cap of
         the per-joint topics); ~silence_timeout (float, default 3.0 s: no frame for this long
@@ -64,6 +67,12 @@ class SerialNode:
             interface.joint_topic(self._side, j, 'setpoint'), Float32,
             lambda msg, j: self._call(self._core.on_setpoint, j, msg.data), j, queue_size=10)
             for j in settings.JOINTS]
+        echo = rospy.Publisher(self._ns + '/' + interface.LINK_ECHO, LinkPing, queue_size=10,
+                               tcp_nodelay=True)
+        self._subs.append(rospy.Subscriber(
+            self._ns + '/' + interface.LINK_PING, LinkPing, lambda msg: echo.publish(LinkPing(
+                seq=msg.seq, sent=msg.sent, echoed=rospy.Time.now())), queue_size=10,
+            tcp_nodelay=True))
 
     def _make_publishers(self):
         def pubs(kind, *topics):
