@@ -1,11 +1,16 @@
 #!/usr/bin/python3
-"""Run RoboPuppet's tests: pytest unit tests, then every rostest file.
+"""Run RoboPuppet's tests: pytest unit tests, the two-host network tests, then every rostest file.
 
-rostest starts a private roscore on a free port for each file, so runs never collide.
+rostest starts a private roscore on a free port for each file, so runs never collide. The
+network tests (tests/network, pytest) build their own two-host test bed in network namespaces
+(tools/netbed) with a roscore inside it; they need root and are skipped, saying why, without.
+Every master and node of the tests gets ROS_IP=127.0.0.1 (and no ROS_HOSTNAME), so no test
+depends on this machine's host name resolving; the network tests set each host's own address.
 
-Usage: run_tests.py [unit|integration|all] [NAME ...]
-NAME filters the integration .test files (substring match). Prints one closing line
-'N passed, N failed' and exits non-zero when anything failed.
+Usage: run_tests.py [unit|network|integration|all] [NAME ...]
+NAME filters the integration .test files (substring match), or with scope network the network
+tests (pytest -k NAME). Prints one closing line 'N passed, N failed' and exits non-zero when
+anything failed.
 """
 import glob
 import os
@@ -21,6 +26,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PKG = os.path.join(ROOT, 'catkin_ws', 'src', 'robopuppet')
 UNIT_DIR = os.path.join(PKG, 'tests', 'unit')
 INTEGRATION_DIR = os.path.join(PKG, 'tests', 'integration')
+NETWORK_DIR = os.path.join(PKG, 'tests', 'network')
 
 
 def junit_counts(path):
@@ -46,6 +52,23 @@ def run_unit(work_dir):
            '--junitxml', xml]
     code = subprocess.call(cmd, cwd=ROOT)
     passed, failed = junit_counts(xml)
+    if code != 0 and failed == 0:
+        failed = 1  # pytest itself failed (collection error, crash)
+    return passed, failed
+
+
+def run_network(names, work_dir):
+    """Run the two-host network tests (pytest, network namespaces); return (passed, failed)."""
+    xml = os.path.join(work_dir, 'network.xml')
+    print('[test] network tests (pytest, two hosts in network namespaces)', flush=True)
+    cmd = [sys.executable, '-m', 'pytest', NETWORK_DIR, '-q', '-rs', '-p', 'no:cacheprovider',
+           '--junitxml', xml, '--basetemp', os.path.join(work_dir, 'network')]
+    if names:
+        cmd += ['-k', ' or '.join(names)]
+    code = subprocess.call(cmd, cwd=ROOT)
+    passed, failed = junit_counts(xml)
+    if code == 5:  # pytest: no test matched the names
+        return 0, 0
     if code != 0 and failed == 0:
         failed = 1  # pytest itself failed (collection error, crash)
     return passed, failed
@@ -97,13 +120,20 @@ def run_integration(names, work_dir):
 
 def main():
     args = sys.argv[1:]
-    scope = args.pop(0) if args and args[0] in ('unit', 'integration', 'all') else 'all'
+    scope = (args.pop(0) if args and args[0] in ('unit', 'network', 'integration', 'all')
+             else 'all')
     work_dir = tempfile.mkdtemp(prefix='robopuppet-tests-')
     os.environ['ROS_HOME'] = os.path.join(work_dir, 'ros_home')
     os.environ['ROS_LOG_DIR'] = os.path.join(work_dir, 'ros_log')
+    # Every test master and node is reached at 127.0.0.1: never by this machine's host name.
+    os.environ['ROS_IP'] = '127.0.0.1'
+    os.environ.pop('ROS_HOSTNAME', None)
     passed = failed = 0
     if scope in ('unit', 'all') and not args:
         p, f = run_unit(work_dir)
+        passed, failed = passed + p, failed + f
+    if scope == 'network' or (scope == 'all' and not args):
+        p, f = run_network(args, work_dir)
         passed, failed = passed + p, failed + f
     if scope in ('integration', 'all'):
         p, f = run_integration(args, work_dir)
