@@ -1,14 +1,15 @@
-"""The main tab: heartbeat, opmode, joint and gripper table, buttons, teleop state, serial link,
-recording."""
+"""The main tab: heartbeat, opmode, joint and gripper table, buttons, teleop state, the link to
+the robot room, serial link, recording."""
 import math
 
 from PyQt5 import QtCore, QtGui, QtWidgets
 
 from robopuppet import interface, settings
-from robopuppet.gui import state
+from robopuppet.gui import link_view, state
+from robopuppet.gui.link_box import LinkBox
 from robopuppet.gui.recording_box import RecordingBox
 
-LINK_STALE_S = 5.0       # diagnostics older than this are shown as not updating
+LINK_STALE_S = link_view.SERIAL_STALE_S  # diagnostics older than this are shown as not updating
 
 GREEN, AMBER, RED, GREY, BLUE = '#c8e6c9', '#ffe0b2', '#ffcdd2', '#e0e0e0', '#bbdefb'
 STATUS_COLOUR = dict(zip(interface.ENC_STATUS, (GREEN, RED, AMBER)))
@@ -59,6 +60,8 @@ class MainTab(QtWidgets.QWidget):
         top.addWidget(self._group('Opmode', opmode))
         top.addWidget(self._group('Teleoperation', self.teleop_label, self.follow_label,
                                   self.detail_label), 2)
+        self.link_box = LinkBox()
+        top.addWidget(self.link_box, 2)
         tables = QtWidgets.QHBoxLayout()
         tables.addWidget(self._group('Joints', self.joint_table), 3)
         tables.addWidget(self._group('Grippers', self.gripper_table, end_piece_note), 2,
@@ -126,6 +129,7 @@ class MainTab(QtWidgets.QWidget):
             self.gripper_table.item(row, 0).setText(number(reading))
         self._show_teleop(snap.teleop)
         self._show_link(snap.link, now_s)
+        self.link_box.refresh(snap, now_s)
         self.recording_box.refresh()
 
     def _show_teleop(self, teleop):

@@ -17,9 +17,13 @@ Teleop = collections.namedtuple('Teleop', 'state follow_left follow_right opmode
                                           'detail received_s')
 # The serial link's health from one diagnostic_msgs/DiagnosticStatus.
 Link = collections.namedtuple('Link', 'level name message values received_s')
+# The operator-robot link as arm_X measures it (robopuppet_msgs/LinkState, figures in s; loss a
+# fraction 0-1), with the GUI's own receive time.
+RobotLink = collections.namedtuple('RobotLink', 'rtt_s sample_age_s max_sample_age_s clock_known '
+                                                'loss level fault detail received_s')
 Joint = collections.namedtuple('Joint', 'status angle_rad voltage_v setpoint_rad')
 Snapshot = collections.namedtuple('Snapshot', 'heartbeat_s joints grippers button last_button '
-                                              'opmode teleop link')
+                                              'opmode teleop link robot_link')
 
 
 class ArmState:
@@ -43,6 +47,7 @@ class ArmState:
         self._opmode = None
         self._teleop = None
         self._link = None
+        self._robot_link = None
         self._pending = {(kind, joint): collections.deque(maxlen=capacity)
                          for kind in SERIES for joint in settings.JOINTS}
 
@@ -125,13 +130,19 @@ class ArmState:
         with self._lock:
             self._link = link
 
+    def on_robot_link(self, robot_link):
+        """Record arm_X's latest view of the operator-robot link (a RobotLink)."""
+        with self._lock:
+            self._robot_link = robot_link
+
     def snapshot(self):
         """Return the latest values as an immutable Snapshot."""
         with self._lock:
             joints = tuple(Joint(*values) for values in zip(
                 self._status, self._angle, self._voltage, self._setpoint))
             return Snapshot(self._heartbeat_s, joints, tuple(self._grippers), self._button,
-                            self._last_button, self._opmode, self._teleop, self._link)
+                            self._last_button, self._opmode, self._teleop, self._link,
+                            self._robot_link)
 
     def drain(self):
         """Return {(series, joint): [(time s, value), ...]} received since the last drain."""
