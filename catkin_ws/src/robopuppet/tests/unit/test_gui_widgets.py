@@ -50,6 +50,12 @@ class FakeClient:
     def recording_status(self):
         return None  # no recorder: test_episodes_gui.py tests the Recording box
 
+    def episodes_dir(self):
+        return '/nonexistent/robopuppet/episodes'  # test_replay_box.py tests the replay control
+
+    def stop_replay(self):
+        self.published.append(('replay_stop',))
+
     def _reach(self):
         if self.answer is not None:
             self.answer.wait(5.0)

@@ -79,7 +79,8 @@ def parse_args(argv):
     parser = argparse.ArgumentParser(
         prog='export', description='Export recorded demonstration episodes.')
     parser.add_argument('episodes', nargs='+', metavar='EPISODE',
-                        help='episode name (in %s) or its .bag/.yaml path' % export_files.default_episodes_dir())
+                        help='episode name (in %s) or its .bag/.yaml path'
+                        % export_files.default_episodes_dir())
     parser.add_argument('--format', action='append', dest='formats',
                         choices=sorted(FORMATS) + ['all'],
                         help='aloha-hdf5 (one .hdf5 per episode), csv (Rethink joint_recorder) '

@@ -1,10 +1,12 @@
-"""The terminal command replay: play a recorded episode's Baxter commands back onto the robot.
+"""The terminal command replay: play a recorded episode back onto the robot or into the puppet.
 
     rosrun robopuppet replay EPISODE [--speed S] [--side L|R|LR] [--arms left,right]
+    rosrun robopuppet replay EPISODE --into puppet [--side L|R|LR] [--speed S]
 
-Drives robopuppet.episodes.replay through Baxter's own API (the stand-in's too). Exit code 0:
-the episode played to its end; 1: stopped by a stop rule; 2: refused or failed (a message says
-why).
+Onto the robot (default) it drives robopuppet.episodes.replay through Baxter's own API (the
+stand-in's too); into the puppet, robopuppet.episodes.puppet_playback through
+robopuppet.episodes.puppet_player. Exit code 0: the episode played to its end; 1: stopped by a
+stop rule; 2: refused or failed (a message says why).
 """
 import argparse
 import json
@@ -21,12 +23,12 @@ from robopuppet import baxter_description
 from robopuppet import interface as ifc
 from robopuppet.arm.baxter_upkeep import CMD_GO
 from robopuppet.arm.readings import arm_poses, joint_angles
-from robopuppet.episodes import export, export_cli, export_files, replay
+from robopuppet.episodes import (export, export_cli, export_files, puppet_playback,
+                                 puppet_player, replay)
 from robopuppet.episodes.recording import parse_sides
 from robopuppet.periodic import Guard, Loop
 from robopuppet_msgs.msg import TeleopState
 
-STOP_TOPIC = '/puppet/replay_stop'  # std_msgs/Empty: stop a running replay (the GUI's Stop)
 RATE_HZ = 100.0
 WAIT_S = 5.0        # for Baxter's state and pose before refusing
 STAY_S = 0.3        # after a stop, the stay command is repeated this long before exiting
@@ -36,7 +38,7 @@ class ReplayNode:
     """Replay one episode; run() returns the exit code.
 
     Subscribes: /robot/state, /robot/joint_states, Baxter's gripper states, and per watched
-    puppet side user_btn, joint_states and teleop_state; STOP_TOPIC (std_msgs/Empty).
+    puppet side user_btn, joint_states and teleop_state; interface.REPLAY_STOP (Empty).
     Publishes: /robot/limb/<side>/joint_command (POSITION_MODE, RATE_HZ) and
     /robot/end_effector/<side>_gripper/command ('go') of the replayed arms.
     """
@@ -64,7 +66,7 @@ class ReplayNode:
             sub('%s/%s' % (ns, ifc.JOINT_STATES), JointState,
                 lambda m, side=side: self._on_puppet(side, m), tcp_nodelay=True)
             sub(ns + '/' + ifc.TELEOP_STATE, TeleopState, self._on_teleop)
-        sub(STOP_TOPIC, Empty, lambda m: self._call(core.stop, 'stop requested'))
+        sub(ifc.REPLAY_STOP, Empty, lambda m: self._call(core.stop, 'stop requested'))
 
     def _call(self, method, *args):
         with self._lock:
@@ -150,14 +152,19 @@ def main(argv=None):
     """Parse the arguments, replay the episode, exit with the exit code."""
     parser = argparse.ArgumentParser(prog='replay', description=__doc__.split('\n')[0])
     parser.add_argument('episode', help='a name in the episodes directory, or a .bag/.yaml')
+    parser.add_argument('--into', choices=('robot', 'puppet'), default='robot',
+                        help="robot: Baxter's recorded commands (default); puppet: the "
+                             "recorded puppet angles as setpoints into the puppet in hold")
     parser.add_argument('--speed', type=float, default=1.0,
                         help='speed factor, 0 < S <= %g (default 1; the joints never exceed '
                              'their velocity limits)' % replay.MAX_SPEED)
-    parser.add_argument('--side', help="puppet sides whose button 1 and motion stop the "
-                                       "replay (default: the episode's sides)")
+    parser.add_argument('--side', help="puppet sides whose button 1 stops the replay; into "
+                                       "the puppet, the arms played (default: the episode's)")
     parser.add_argument('--arms', help="Baxter arms to replay, e.g. right or left,right "
                                        "(default: those the episode commands)")
     args = parser.parse_args(rospy.myargv(argv if argv is not None else sys.argv)[1:])
+    if args.arms and args.into == 'puppet':
+        parser.error('--arms names Baxter arms: not with --into puppet')
 
     def say(text):
         print('replay: %s' % text, file=sys.stderr, flush=True)
@@ -165,14 +172,20 @@ def main(argv=None):
         bag_path, yaml_path = export_files.episode_paths(export_cli.resolve(args.episode))
         sides = parse_sides(args.side or ''.join(
             export_files.read_metadata(yaml_path).get('sides') or ifc.PUPPET_SIDES))
-        arms = args.arms.replace(',', ' ').split() if args.arms else None
         say('reading %s' % bag_path)
         recording = export.collect(export_files.read_messages(bag_path, export.episode_topics()))
-        limits = {s: baxter_description.arm_limits(s) for s in ifc.BAXTER_SIDES}
-        paths, grips = replay.episode_script(recording, arms)
-        core = replay.Replay(paths, grips, limits, args.speed, 1.0 / RATE_HZ)
+        if args.into == 'puppet':
+            core = puppet_playback.PuppetPlayback(puppet_playback.puppet_paths(
+                recording, sides), args.speed, 1.0 / puppet_player.RATE_HZ)
+        else:
+            arms = args.arms.replace(',', ' ').split() if args.arms else None
+            limits = {s: baxter_description.arm_limits(s) for s in ifc.BAXTER_SIDES}
+            paths, grips = replay.episode_script(recording, arms)
+            core = replay.Replay(paths, grips, limits, args.speed, 1.0 / RATE_HZ)
     except (export_files.EpisodeError, ValueError) as error:
         say('failed: %s' % error)
         sys.exit(2)
     rospy.init_node('replay', anonymous=True)
-    sys.exit(ReplayNode(core, sides, say).run())
+    node = (puppet_player.PuppetPlayer(core, say) if args.into == 'puppet'
+            else ReplayNode(core, sides, say))
+    sys.exit(node.run())

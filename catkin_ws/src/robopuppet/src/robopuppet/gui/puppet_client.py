@@ -7,6 +7,7 @@ import collections
 import math
 import threading
 
+import rospkg
 import rospy
 from diagnostic_msgs.msg import DiagnosticArray
 from sensor_msgs.msg import JointState
@@ -16,7 +17,7 @@ from robopuppet import interface, settings
 from robopuppet.calibration import procedure
 from robopuppet.episodes import recording
 from robopuppet.gui import state
-from robopuppet_msgs.msg import ArmSettings, RecordingState, TeleopState
+from robopuppet_msgs.msg import ArmSettings, LinkState, RecordingState, TeleopState
 from robopuppet_msgs.srv import GetConfig, Record, SetConfig
 
 # Incoming messages each subscriber keeps when its callback falls behind (older ones are
@@ -61,6 +62,9 @@ class PuppetClient:
         (robopuppet_msgs/SetConfig).
     Recording: subscribes /puppet/recording (robopuppet_msgs/RecordingState, kept for
         recording_status()) and calls /puppet/record (robopuppet_msgs/Record).
+    Replay: publishes interface.REPLAY_STOP (std_msgs/Empty) on stop_replay().
+    Link to the robot room: subscribes <ns>/link_state (robopuppet_msgs/LinkState from arm_X,
+        kept in the ArmState as a state.RobotLink with its receive time).
     """
 
     def __init__(self, side, arm_state, clock=rospy.get_time):
@@ -86,6 +90,7 @@ class PuppetClient:
                 queue_size=DIAGNOSTICS_QUEUE_SIZE),
             sub(topic(interface.STORED_SETTINGS), ArmSettings, self._on_stored, queue_size=1),
             sub(recording.RECORDING_TOPIC, RecordingState, self._on_recording, queue_size=1),
+            sub(topic(interface.LINK_STATE), LinkState, self._on_link_state, queue_size=1),
         ]
         for gripper in range(interface.NUM_GRIPPERS):
             self._subscribers.append(sub(interface.gripper_topic(side, gripper), Float32,
@@ -106,6 +111,7 @@ class PuppetClient:
         self._get_config = rospy.ServiceProxy(topic(interface.GET_CONFIG), GetConfig)
         self._set_config = rospy.ServiceProxy(topic(interface.SET_CONFIG), SetConfig)
         self._record = rospy.ServiceProxy(recording.RECORD_SERVICE, Record)
+        self._replay_stop_pub = rospy.Publisher(interface.REPLAY_STOP, Empty, queue_size=1)
         self._recording = None
 
     def now(self):
@@ -182,6 +188,15 @@ class PuppetClient:
             raise ConfigUnavailable('%s: %s' % (recording.RECORD_SERVICE, error)) from None
         return RecordAnswer(response.ok, response.error, response.episode)
 
+    def stop_replay(self):
+        """Ask a running replay to stop (std_msgs/Empty on interface.REPLAY_STOP)."""
+        self._replay_stop_pub.publish(Empty())
+
+    @staticmethod
+    def episodes_dir():
+        """Return the recorder's default episodes directory ($ROS_HOME/robopuppet/episodes)."""
+        return recording.episodes_dir(rospkg.get_ros_home())
+
     def recording_status(self):
         """Return the recorder's latest recording.Status, or None before the first."""
         with self._stored_lock:
@@ -211,6 +226,11 @@ class PuppetClient:
             self.state.on_opmode(msg.data, self._clock())
         except ValueError as error:
             rospy.logwarn_throttle(10, '%s/opmode ignored: %s', self.ns, error)
+
+    def _on_link_state(self, msg):
+        self.state.on_robot_link(state.RobotLink(
+            msg.rtt, msg.sample_age, msg.max_sample_age, msg.clock_known, msg.loss, msg.level,
+            msg.fault, msg.detail, self._clock()))
 
     def _on_teleop(self, msg):
         self.state.on_teleop(state.Teleop(msg.state, msg.follow_left, msg.follow_right,

@@ -1,23 +1,27 @@
-"""The Recording box: start and stop a demonstration episode, with notes; the recorder's status."""
+"""The Recording box: start and stop a demonstration episode, with notes; the recorder's status;
+below it the replay control (robopuppet.gui.replay_box)."""
 from PyQt5 import QtWidgets
 
 from robopuppet.episodes import recording
 from robopuppet.gui.config_task import ConfigTask
+from robopuppet.gui.replay_box import ReplayBox
 
 RECORD_TIMEOUT_S = 5.0   # the recorder answers at once; a busy machine may take longer
 RED_TEXT = 'QLabel { color: #c62828; font-weight: bold; }'
 
 
 class RecordingBox(QtWidgets.QGroupBox):
-    """Start/Stop (the recorder's /puppet/record, off the GUI thread), notes, live status.
+    """Start/Stop (the recorder's /puppet/record, off the GUI thread), notes, live status; the
+    replay control (`replay`, a ReplayBox).
 
     Args:
         client: a PuppetClient (or a test double) with record(start, notes) and
-            recording_status().
+            recording_status(), and what ReplayBox needs.
     """
 
     def __init__(self, client, parent=None):
-        super().__init__('Recording (button 4 also starts and stops)', parent)
+        super().__init__('Recording and replay (button 4 also starts and stops recording)',
+                         parent)
         self._client = client
         self._task = ConfigTask(self)
         self._refusal = ''
@@ -27,10 +31,14 @@ class RecordingBox(QtWidgets.QGroupBox):
         self.notes.setPlaceholderText('notes for this episode (optional)')
         self.status_label = QtWidgets.QLabel(recording.status_text(None))
         self.status_label.setWordWrap(True)
-        row = QtWidgets.QHBoxLayout(self)
+        self.replay = ReplayBox(client)
+        row = QtWidgets.QHBoxLayout()
         row.addWidget(self.button)
         row.addWidget(self.notes, 2)
         row.addWidget(self.status_label, 2)
+        rows = QtWidgets.QVBoxLayout(self)
+        rows.addLayout(row)
+        rows.addWidget(self.replay)
 
     def busy(self):
         """Return True while a Record call has not answered."""
@@ -66,3 +74,4 @@ class RecordingBox(QtWidgets.QGroupBox):
         self.status_label.setText(text)
         red = recording_now or bool(self._refusal) or bool(status and status.problem)
         self.status_label.setStyleSheet(RED_TEXT if red else '')
+        self.replay.refresh()
