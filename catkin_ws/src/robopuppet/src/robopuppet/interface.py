@@ -62,6 +62,7 @@ SIM_HAND, SIM_BUTTON, SIM_GRIPPERS, SIM_CONTROL = 'hand', 'button', 'grippers', 
 SIM_LINE_NOISE = 'line_noise'
 SIM_DEVICE_CONFIG, SIM_DEVICE_OPMODE = 'device_config', 'device_opmode'
 DIAGNOSTICS = '/diagnostics'
+REPLAY_STOP = '/puppet/replay_stop'  # std_msgs/Empty: stop a running replay (the GUI's Stop)
 # Each node's status of one arm on /diagnostics: hardware_id is puppet_ns(side) and the status
 # name ends with what it is about, so a reader finds it without knowing the node's name.
 DIAG_LINK = 'puppet serial link'   # serial_X
@@ -81,6 +82,18 @@ SOFTWARE_VERSION_PARAM = '/rethink/software_version'
 def limb_topic(side, name):
     """Return a topic of one Baxter arm, e.g. limb_topic('left', 'joint_command')."""
     return '/robot/limb/%s/%s' % (side, name)
+
+
+def camera_topic(camera, name):
+    """Return a camera's topic, e.g. camera_topic('right_hand_camera', 'image/compressed') ->
+    '/cameras/right_hand_camera/image/compressed' (name: image, image/compressed, camera_info)."""
+    return '/cameras/%s/%s' % (camera, name)
+
+
+# Baxter's own cameras (Rethink's names) and the room camera a lab adds; the stand-in renders
+# all of them, Baxter's on its hand-camera frames of the URDF.
+BAXTER_CAMERAS = ('head_camera', 'left_hand_camera', 'right_hand_camera')
+ROOM_CAMERA = 'room_camera'
 
 
 def baxter_gripper_topic(side, name):
