@@ -22,6 +22,7 @@ import math
 import signal
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 
@@ -52,6 +53,17 @@ class BenchClient:
 
     def get_config(self, joint):
         raise ConfigUnavailable('benchmark: no config node')
+
+    @staticmethod
+    def recording_status():
+        return None  # no recorder: the Recording box shows that
+
+    @staticmethod
+    def episodes_dir():
+        return tempfile.gettempdir()
+
+    def stop_replay(self):
+        pass
 
 
 def feed(arm, rate_hz, stop):
