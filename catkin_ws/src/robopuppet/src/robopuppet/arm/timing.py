@@ -12,21 +12,23 @@ that faults between normal state sets stops Baxter at random and is of no use, a
 longer; StateTimeout.describe() says by how much, and arm_X logs it and shows it in /diagnostics.
 
 With the puppet on another host (two rooms, one network) a stream can also arrive steadily but
-late. arm_X therefore also bounds the age of each puppet sample on arrival (measured on the robot
-clock: robopuppet.arm.link_clock): an older sample is refused, and as soon as one arrives the
+late. arm_X therefore also bounds the age of each puppet sample on arrival, measured on the
+robot clock as an upper bound: the estimate plus the operator clock offset's error bound (half
+the shortest recent round trip, robopuppet.arm.link_clock), so that an uncertain clock makes
+samples look older, never younger. An older sample is refused, and as soon as one arrives the
 stream is stale (its newest usable sample is older still) and counts as silent. The default,
 DEFAULT_MAX_SAMPLE_AGE_S = 0.35 s, is reasoned out as follows:
 
 - Baxter never follows the puppet more than 0.5 s late (interface.STOP_WITHIN_S): a used sample
-  is at most 0.35 s old, plus MAX_CLOCK_ERROR_S (0.05 s: the operator clock's offset is known to
-  half a round trip, and arm_X trusts it only to 0.05 s), and reaches Baxter by the next command
-  step (STOP_AFTER_TIMEOUT_S, 0.1 s). A link that fails stops Baxter within 0.5 s as well: no
-  usable sample for the state timeout (0.4 s at 10 Hz) is silence, and a delay that grows past
-  the bound but stays under the state timeout shows with its first late sample.
-- A working link passes: at 10 Hz TCP on a path with 1 % loss holds a sample back by a
-  retransmission (Linux's minimum retransmission timeout is 0.2 s, plus up to one state period
-  of 0.1 s until the loss shows): at most about 0.3 s, and 50 ms are left for latency and jitter.
-  A longer hold-up (a second retransmission) faults the teleop: on the safe side.
+  is at most 0.35 s old on arrival, arm_X handles it within HANDLING_MARGIN_S (0.05 s: its
+  callback queue on a loaded host) and it reaches Baxter by the next command step at the latest
+  (STOP_AFTER_TIMEOUT_S, 0.1 s). A link that fails stops Baxter within 0.5 s as well: no usable
+  sample for the state timeout (0.4 s at 10 Hz) is silence, and a delay that grows past the
+  bound but stays under the state timeout shows with its first late sample.
+- A working link passes: at 50 ms one way a sample's age bound is about 0.1 s (the delay plus
+  half the 0.1 s round trip); at 10 Hz TCP on a path with 1 % loss holds a sample back by one
+  retransmission (a tail-loss probe or Linux's minimum retransmission timeout, about 0.2 s):
+  about 0.3 s. A longer hold-up (a second retransmission) faults the teleop: on the safe side.
 - On the robot host the bound does not depend on comm_rate: a sample's age is counted from its
   stamp to its arrival, not across the gap to the next one (the state timeout covers gaps).
 """
@@ -40,10 +42,9 @@ MIN_STATE_TIMEOUT_S = 0.2    # scheduling jitter of the serial and arm nodes on 
 # From silence detected to Baxter holding still: the next command step (at most one period of
 # the slowest allowed command rate, 10 Hz) sends the stay command, Baxter takes it at once.
 STOP_AFTER_TIMEOUT_S = 0.1
-# arm_X trusts the operator clock's estimated offset only when it is known to this much (half
-# the shortest round trip of recent pings, robopuppet.arm.link_clock).
-MAX_CLOCK_ERROR_S = 0.05
-DEFAULT_MAX_SAMPLE_AGE_S = round(STOP_WITHIN_S - STOP_AFTER_TIMEOUT_S - MAX_CLOCK_ERROR_S, 6)
+# From a puppet sample's arrival to arm_X acting on it: its callback queue on a loaded host.
+HANDLING_MARGIN_S = 0.05
+DEFAULT_MAX_SAMPLE_AGE_S = round(STOP_WITHIN_S - STOP_AFTER_TIMEOUT_S - HANDLING_MARGIN_S, 6)
 
 
 class StateTimeout(collections.namedtuple('StateTimeout', 'comm_rate_hz timeout_s stop_s')):
@@ -100,8 +101,8 @@ class AgeBound(collections.namedtuple('AgeBound', 'bound_s late_s')):
 
     Fields:
         bound_s: an older sample is refused and makes the stream stale (s).
-        late_s: Baxter follows the puppet at most this late: the bound, the clock's error and
-            a command step (s).
+        late_s: Baxter follows the puppet at most this late: the bound (which counts the
+            clock's error), arm_X's handling and a command step (s).
     """
 
     __slots__ = ()
@@ -129,4 +130,4 @@ def sample_age_bound(max_sample_age_s):
     if not (math.isfinite(max_sample_age_s) and max_sample_age_s > 0.0):
         raise ValueError('max_sample_age must be a positive number, got %r' % (max_sample_age_s,))
     return AgeBound(float(max_sample_age_s),
-                    max_sample_age_s + MAX_CLOCK_ERROR_S + STOP_AFTER_TIMEOUT_S)
+                    max_sample_age_s + HANDLING_MARGIN_S + STOP_AFTER_TIMEOUT_S)
