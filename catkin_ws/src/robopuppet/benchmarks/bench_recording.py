@@ -7,10 +7,10 @@ starts its own roscore and recorder with ~sides LR)
 This process publishes synthetic traffic at 100 Hz on every recorded topic of both puppet arms
 and Baxter's (joint_states, gripper_0..3, user_btn, opmode, joint_command, gripper command and
 state, /robot/joint_states, /diagnostics), records one episode through /puppet/record, and
-prints messages written vs published per topic group, MB per minute, and the recorder's CPU.
-Not measured: the added hand->JointCommand latency with recording on vs off (the recorder shares
-no thread or lock with arm_X, only CPU; bench_teleop.py with a recorder beside it would measure
-it, which is not cheap: run it by hand when in doubt).
+prints messages written vs published (in all, and of the topic that lost most), MB per minute
+and the recorder's CPU.
+The other half of the issue 10 benchmark, the hand->JointCommand latency that recording adds, is
+measured by bench_teleop.py --record (the real stack and recorder on a played puppet).
 """
 import argparse
 import os
@@ -103,7 +103,6 @@ def run(minutes, recorder):
         *min(((t, written[t], published[t]) for t in topics), key=lambda x: x[1] / x[2])))
     print('bag size: %.1f MB, %.1f MB per minute' % (size_mb, size_mb / minutes))
     print('recorder CPU: %.0f %% of one core' % cpu)
-    print('hand->JointCommand latency with recording on vs off: not measured (see docstring)')
 
 
 if __name__ == '__main__':

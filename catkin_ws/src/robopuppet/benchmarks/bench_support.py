@@ -1,13 +1,16 @@
-"""What the benchmark scripts share: a private roscore and percentiles."""
+"""What the benchmark scripts share: a private roscore, percentiles and node processes."""
 import contextlib
+import glob
 import math
 import os
 import shutil
+import signal
 import socket
 import subprocess
 import tempfile
 import time
 
+import psutil
 import rosgraph
 
 
@@ -15,6 +18,59 @@ def percentile(values, fraction):
     """Return the nearest-rank percentile of values, fraction in (0, 1] (0.99 for p99)."""
     ordered = sorted(values)
     return ordered[min(len(ordered) - 1, max(int(math.ceil(fraction * len(ordered))) - 1, 0))]
+
+
+def start_process(args, log):
+    """Start args in a session of its own (output to the open file log); return the Popen."""
+    return subprocess.Popen(args, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+
+
+def stop_process(process):
+    """Stop a start_process Popen and its children: SIGINT to its group, SIGKILL after 10 s."""
+    if process.poll() is None:
+        os.killpg(process.pid, signal.SIGINT)
+        try:
+            process.wait(10)
+        except subprocess.TimeoutExpired:
+            os.killpg(process.pid, signal.SIGKILL)
+            process.wait()
+
+
+def _tree(process):
+    """Return psutil.Processes of a Popen's process and its live children ([] once gone)."""
+    try:
+        root = psutil.Process(process.pid)
+        return [root] + root.children(recursive=True)
+    except psutil.NoSuchProcess:
+        return []
+
+
+def cpu_seconds(process):
+    """Return the CPU time (s) used so far by a Popen's process and its live children."""
+    total = 0.0
+    for member in _tree(process):
+        try:
+            times = member.cpu_times()
+        except psutil.NoSuchProcess:
+            continue
+        total += times.user + times.system
+    return total
+
+
+def run_queue_wait_s(process):
+    """Return the time (s) the threads of a Popen's process tree have waited for a CPU so far.
+
+    Linux schedstat (run_delay) summed over the live threads: time runnable but not running.
+    """
+    total_ns = 0
+    for member in _tree(process):
+        for path in glob.glob('/proc/%d/task/*/schedstat' % member.pid):
+            try:
+                with open(path) as stat:
+                    total_ns += int(stat.read().split()[1])
+            except (OSError, ValueError, IndexError):
+                continue
+    return total_ns / 1e9
 
 
 def _free_port():

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Benchmark: latency from a puppet movement to the first Baxter JointCommand that carries it.
 
-Usage: benchmarks/bench_teleop.py [--samples N]   (after `. tools/env.sh`; starts its own roscore)
+Usage: benchmarks/bench_teleop.py [--samples N] [--record [--rounds R]]
+(after `. tools/env.sh`; starts its own roscore)
 
 The benchmark plays the puppet's microcontroller itself on a pseudo-terminal (heartbeat, state
 sets at comm_rate, all joints Working), so that a "hand movement" is an instant change of joint 6's
@@ -15,13 +16,21 @@ this process that poll at a fixed 10 Hz like the 2020 host loops (the serial nod
 the arm controller's loop) between the serial node and the arm node.
 
 Also printed: the CPU share of the host stack (config, serial and arm nodes) at each rate.
+
+--record: recording on vs off instead (issue 10), at comm_rate 100 only, N samples per mode: no
+recorder; the real recorder running idle (recorder.launch, record_sides:=R); and recording, an
+episode of the whole traffic (side R and Baxter's topics) started and stopped through
+/puppet/record. The modes run in R rounds of interleaved blocks (order reversed every other
+round) on one host stack, so that a change in the load of other processes on the machine falls
+on every mode alike. Printed: p50/p99 per mode and the differences, CPU per process, the
+machine's CPU busy share, and what the episodes hold.
 """
 import argparse
+import collections
 import os
 import random
 import signal
 import statistics
-import subprocess
 import sys
 import threading
 import time
@@ -33,8 +42,11 @@ from sensor_msgs.msg import JointState
 
 from robopuppet import interface
 from robopuppet.protocol import codec
+from robopuppet_msgs.msg import TeleopState
 
-from bench_support import percentile, private_roscore
+import bench_teleop_record
+from bench_support import (cpu_seconds, percentile, private_roscore, run_queue_wait_s,
+                           start_process, stop_process)
 
 HOST_NODES = ('config', 'serial', 'arm')
 POSE = [0.2, 0.4, 0.3, 1.0, -0.3, 0.6, 0.25]
@@ -121,136 +133,208 @@ class Relay:
         self._pub.unregister()
 
 
-def start(args, log):
-    return subprocess.Popen(args, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+Block = collections.namedtuple('Block', 'latencies cpu wait command_rate busy faults')
+Block.__doc__ = """One run of moves: latencies (s); by process name, CPU % of one core and the time
+its threads waited for a CPU (run queue, ms per s); JointCommands per second; the machine's CPU
+busy share (% of all cores, every process on it); and arm_R's faults (after each, the puppet's
+button 3 was pressed again to follow)."""
 
 
-def stop(process):
-    if process.poll() is None:
-        os.killpg(process.pid, signal.SIGINT)
+class Stack:
+    """Side R's host stack (config, serial, arm nodes; 2020 relays when legacy) on a Device.
+
+    A context manager: entering starts it, leaving stops every process it started.
+    """
+
+    def __init__(self, name, rate_hz, legacy, work, log):
+        self.name, self.rate_hz, self.legacy = name, rate_hz, legacy
+        self._work, self._log = work, log
+        self.processes = {}
+        self.relays = []
+        self.commands = []  # (reception time, joint 6 command)
+        self._watch = {'angle': None, 't': None, 'hit': threading.Event()}
+        self._subs = []
+        self.device = None
+        self.state = None    # arm_R's teleop_state
+        self.faults = 0
+
+    def __enter__(self):
         try:
-            process.wait(10)
-        except subprocess.TimeoutExpired:
-            os.killpg(process.pid, signal.SIGKILL)
-            process.wait()
+            self._start()
+        except BaseException:
+            self.close()
+            raise
+        return self
 
+    def __exit__(self, *exc):
+        self.close()
 
-def run_scenario(name, rate_hz, legacy, samples, work, log):
-    """Run one configuration; return (latencies s, cpu shares % by node, command count)."""
-    link = os.path.join(work, 'puppet_%s' % name.replace(' ', '_'))
-    device = Device(link, rate_hz)
-    states_topic = '%s/%s' % (interface.puppet_ns('R'), interface.JOINT_STATES)
-    relays = []
-    arm_args = ['_command_rate:=100', '_comm_rate:=%g' % rate_hz]
-    if legacy:
-        relays = [Relay(states_topic, '/bench/serial_loop', 10.0),
-                  Relay('/bench/serial_loop', '/bench/arm_loop', 10.0)]
-        arm_args = ['_command_rate:=10', '_comm_rate:=%g' % rate_hz,
-                    '%s:=/bench/arm_loop' % states_topic]
-    ini = os.path.join(work, 'arm_R_%s.ini' % name.replace(' ', '_'))
-    processes = {
-        'config': start(['rosrun', 'robopuppet', 'config', '__name:=config_R', '_arm_side:=R',
-                         '_file_name:=' + ini], log),
-        'serial': start(['rosrun', 'robopuppet', 'serial_interface', '__name:=serial_R',
-                         '_arm_side:=R', '_port_name:=' + link], log),
-        'arm': start(['rosrun', 'robopuppet', 'arm', '__name:=arm_R', '_arm_side:=R'] + arm_args,
-                     log),
-    }
-    commands = []  # (reception time, joint 6 command)
-    watch = {'angle': None, 't': None, 'hit': threading.Event()}
+    def _start(self):
+        slug = self.name.replace(' ', '_')
+        link = os.path.join(self._work, 'puppet_%s' % slug)
+        self.device = Device(link, self.rate_hz)
+        states_topic = '%s/%s' % (interface.puppet_ns('R'), interface.JOINT_STATES)
+        arm_args = ['_command_rate:=100', '_comm_rate:=%g' % self.rate_hz]
+        if self.legacy:
+            self.relays = [Relay(states_topic, '/bench/serial_loop', 10.0),
+                           Relay('/bench/serial_loop', '/bench/arm_loop', 10.0)]
+            arm_args = ['_command_rate:=10', '_comm_rate:=%g' % self.rate_hz,
+                        '%s:=/bench/arm_loop' % states_topic]
+        ini = os.path.join(self._work, 'arm_R_%s.ini' % slug)
+        for key, args in (
+                ('config', ['config', '__name:=config_R', '_arm_side:=R', '_file_name:=' + ini]),
+                ('serial', ['serial_interface', '__name:=serial_R', '_arm_side:=R',
+                            '_port_name:=' + link]),
+                ('arm', ['arm', '__name:=arm_R', '_arm_side:=R'] + arm_args)):
+            self.processes[key] = start_process(['rosrun', 'robopuppet'] + args, self._log)
+        self._subs = [
+            rospy.Subscriber(interface.limb_topic('right', 'joint_command'), JointCommand,
+                             self._on_command, queue_size=1000, tcp_nodelay=True),
+            rospy.Subscriber('%s/%s' % (interface.puppet_ns('R'), interface.TELEOP_STATE),
+                             TeleopState, self._on_teleop_state)]
+        time.sleep(4.0)  # nodes up, settings loaded, Baxter enabled
+        self._follow()
 
-    def on_command(msg):
+    def _on_teleop_state(self, msg):
+        if msg.state == interface.FAULT and self.state != interface.FAULT:
+            self.faults += 1
+        self.state = msg.state
+
+    def _follow(self):
+        """Press button 3 until arm_R follows, then wait until Baxter is commanded the puppet."""
+        deadline = time.monotonic() + 30
+        while self.state != interface.FOLLOWING:
+            if time.monotonic() > deadline:
+                raise RuntimeError('%s: arm_R never followed (%s)' % (self.name, self.state))
+            with self.device.lock:
+                self.device.button = interface.BUTTON_RIGHT
+            time.sleep(0.5)
+            with self.device.lock:
+                self.device.button = 0
+            pressed_t = time.monotonic()
+            while self.state != interface.FOLLOWING and time.monotonic() < pressed_t + 2.0:
+                time.sleep(0.05)
+        with self.device.lock:
+            angle = self.device.angles[6]
+        while not (self.commands and abs(self.commands[-1][1] - angle) < 1e-6):
+            if time.monotonic() > deadline:
+                raise RuntimeError('%s: Baxter never tracked the puppet' % self.name)
+            time.sleep(0.1)
+        time.sleep(1.0)
+
+    def _on_command(self, msg):
         now = time.monotonic()
-        commands.append((now, msg.command[6]))
+        self.commands.append((now, msg.command[6]))
+        watch = self._watch
         if watch['angle'] is not None and abs(msg.command[6] - watch['angle']) < 1e-6 \
                 and not watch['hit'].is_set():
             watch['t'] = now
             watch['hit'].set()
 
-    sub = rospy.Subscriber(interface.limb_topic('right', 'joint_command'), JointCommand, on_command,
-                           queue_size=1000, tcp_nodelay=True)
-    try:
-        time.sleep(4.0)  # nodes up, settings loaded, Baxter enabled
-        with device.lock:
-            device.button = interface.BUTTON_RIGHT
-        time.sleep(0.5)
-        with device.lock:
-            device.button = 0
-        deadline = time.monotonic() + 30
-        while not (commands and abs(commands[-1][1] - POSE[6]) < 1e-6):
-            if time.monotonic() > deadline:
-                raise RuntimeError('%s: Baxter never tracked the puppet' % name)
-            time.sleep(0.1)
-        time.sleep(1.0)
-        cpu_before = {k: psutil.Process(p.pid).cpu_times() for k, p in processes.items()}
+    def measure(self, samples, others=None):
+        """Make samples moves of joint 6; return a Block (CPU of ours and of others' Popens)."""
+        watched = dict(self.processes, **(others or {}))
+        cpu_before = {key: cpu_seconds(process) for key, process in watched.items()}
+        wait_before = {key: run_queue_wait_s(process) for key, process in watched.items()}
+        psutil.cpu_percent()
         wall_before = time.monotonic()
-        count_before = len(commands)
+        count_before = len(self.commands)
+        faults_before = self.faults
         latencies = []
-        angle = POSE[6]
+        with self.device.lock:
+            angle = self.device.angles[6]
         for i in range(samples):
-            time.sleep(random.uniform(0.0, 1.0 / rate_hz) + (0.35 if legacy else 0.03))
+            time.sleep(random.uniform(0.0, 1.0 / self.rate_hz) + (0.35 if self.legacy else 0.03))
             angle += STEP_RAD if i % 2 == 0 else -STEP_RAD
-            watch['hit'].clear()
-            watch['angle'] = angle
-            moved_t = device.move(angle)
-            if watch['hit'].wait(2.0):
-                latencies.append(watch['t'] - moved_t)
+            self._watch['hit'].clear()
+            self._watch['angle'] = angle
+            moved_t = self.device.move(angle)
+            if self._watch['hit'].wait(2.0):
+                latencies.append(self._watch['t'] - moved_t)
+                continue
+            gone = ['%s (exit %s)' % (key, process.poll()) for key, process in watched.items()
+                    if process.poll() is not None]
+            if gone:
+                raise RuntimeError('%s: %s ended during the run' % (self.name, ', '.join(gone)))
+            if self.state != interface.FOLLOWING:
+                self._follow()
         wall = time.monotonic() - wall_before
-        cpu = {}
-        for key, process in processes.items():
-            after = psutil.Process(process.pid).cpu_times()
-            used = (after.user - cpu_before[key].user) + (after.system - cpu_before[key].system)
-            cpu[key] = 100.0 * used / wall
-        command_rate = (len(commands) - count_before) / wall
-        return latencies, cpu, command_rate
-    finally:
-        sub.unregister()
-        for relay in relays:
+        busy = psutil.cpu_percent()
+        cpu = {key: 100.0 * (cpu_seconds(process) - cpu_before[key]) / wall
+               for key, process in watched.items()}
+        wait = {key: 1000.0 * (run_queue_wait_s(process) - wait_before[key]) / wall
+                for key, process in watched.items()}
+        return Block(latencies, cpu, wait, (len(self.commands) - count_before) / wall, busy,
+                     self.faults - faults_before)
+
+    def close(self):
+        for sub in self._subs:
+            sub.unregister()
+        for relay in self.relays:
             relay.stop()
-        for process in processes.values():
-            stop(process)
-        device.close()
+        for process in self.processes.values():
+            stop_process(process)
+        if self.device is not None:
+            self.device.close()
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
-    parser.add_argument('--samples', type=int, default=200, help='moves per configuration')
+    parser.add_argument('--samples', type=int, default=200,
+                        help='moves per configuration (per mode with --record)')
+    parser.add_argument('--record', action='store_true',
+                        help='recording on vs off at comm_rate 100 instead of the rates')
+    parser.add_argument('--rounds', type=int, default=16,
+                        help='with --record: interleaved rounds the samples are spread over')
     options = parser.parse_args()
+    # Stop cleanly (every process this starts) on Ctrl-C and on kill, also when run in the
+    # background, where SIGINT comes in ignored.
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+    signal.signal(signal.SIGTERM, lambda signum, frame: sys.exit('bench_teleop: terminated'))
     with private_roscore('bench_teleop_') as work:
-        run_all(options.samples, work)
+        log = open(os.path.join(work, 'nodes.log'), 'w')
+        baxter = None
+        try:
+            baxter = start_process(['rosrun', 'robopuppet', 'baxter_sim',
+                                    '_gripper_calibrated:=true'], log)
+            rospy.init_node('bench_teleop', disable_signals=True)
+            if options.record:
+                with Stack('recording', 100.0, False, work, log) as stack:
+                    bench_teleop_record.run(stack, options.samples, max(options.rounds, 1),
+                                            work, log, baxter)
+            else:
+                run_rates(options.samples, work, log)
+        finally:
+            rospy.signal_shutdown('done')
+            if baxter is not None:
+                stop_process(baxter)
+            log.close()
 
 
-def run_all(samples, work):
-    """Start the Baxter stand-in, run every configuration and print its figures."""
-    log = open(os.path.join(work, 'nodes.log'), 'w')
-    baxter = None
-    try:
-        baxter = start(['rosrun', 'robopuppet', 'baxter_sim', '_gripper_calibrated:=true'], log)
-        rospy.init_node('bench_teleop', disable_signals=True)
-        scenarios = [('2020 timing (10 Hz loops)', 10.0, True, max(samples // 4, 30)),
-                     ('comm_rate 10', 10.0, False, max(samples // 4, 30)),
-                     ('comm_rate 100', 100.0, False, samples),
-                     ('comm_rate 250', 250.0, False, samples),
-                     ('comm_rate 500', 500.0, False, samples),
-                     ('comm_rate 1000', 1000.0, False, samples)]
-        print('Latency from a puppet movement to the first JointCommand carrying it')
-        print('%-27s %7s %8s %8s %8s %9s  %s' % ('configuration', 'samples', 'p50 ms', 'p99 ms',
-                                                'target', 'cmd/s', 'CPU % (config serial arm)'))
-        for name, rate, legacy, count in scenarios:
-            print('running %s ...' % name, file=sys.stderr, flush=True)
-            latencies, cpu, command_rate = run_scenario(name, rate, legacy, count, work, log)
-            lost = count - len(latencies)
-            target = '' if legacy else '%.1f' % (1000.0 / rate + 3.0)
-            print('%-27s %7d %8.1f %8.1f %8s %9.0f  %s%s' % (
-                name, len(latencies), 1000 * statistics.median(latencies),
-                1000 * percentile(latencies, 0.99), target, command_rate,
-                ' '.join('%.1f' % cpu[k] for k in HOST_NODES),
-                '  (%d moves never arrived)' % lost if lost else ''), flush=True)
-    finally:
-        rospy.signal_shutdown('done')
-        if baxter is not None:
-            stop(baxter)
-        log.close()
+def run_rates(samples, work, log):
+    """Run every configuration against the running Baxter stand-in and print its figures."""
+    scenarios = [('2020 timing (10 Hz loops)', 10.0, True, max(samples // 4, 30)),
+                 ('comm_rate 10', 10.0, False, max(samples // 4, 30)),
+                 ('comm_rate 100', 100.0, False, samples),
+                 ('comm_rate 250', 250.0, False, samples),
+                 ('comm_rate 500', 500.0, False, samples),
+                 ('comm_rate 1000', 1000.0, False, samples)]
+    print('Latency from a puppet movement to the first JointCommand carrying it')
+    print('%-27s %7s %8s %8s %8s %9s  %s' % ('configuration', 'samples', 'p50 ms', 'p99 ms',
+                                            'target', 'cmd/s', 'CPU % (config serial arm)'))
+    for name, rate, legacy, count in scenarios:
+        print('running %s ...' % name, file=sys.stderr, flush=True)
+        with Stack(name, rate, legacy, work, log) as stack:
+            block = stack.measure(count)
+        latencies = block.latencies
+        lost = count - len(latencies)
+        target = '' if legacy else '%.1f' % (1000.0 / rate + 3.0)
+        print('%-27s %7d %8.1f %8.1f %8s %9.0f  %s%s%s' % (
+            name, len(latencies), 1000 * statistics.median(latencies),
+            1000 * percentile(latencies, 0.99), target, block.command_rate,
+            ' '.join('%.1f' % block.cpu[k] for k in HOST_NODES),
+            '  (%d moves never arrived)' % lost if lost else '',
+            ', %d arm_R faults' % block.faults if block.faults else ''), flush=True)
 
 
 if __name__ == '__main__':
