@@ -2,6 +2,7 @@
 # Set up (install Debian packages, build) and run every RoboPuppet test.
 #   ./test.sh                     all tests
 #   ./test.sh unit                pytest unit tests only
+#   ./test.sh network [NAME]      two-host network tests only (as root; NAME: a pytest -k filter)
 #   ./test.sh integration [NAME]  rostest files only (NAME: substring of a .test file name)
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
