@@ -27,6 +27,8 @@ Data flows from the puppet to Baxter:
 |               | names, metadata, disk rule, the episode's files, repair);   | (the exporter), |
 |               | the exporter of episodes                                    | config (the ini |
 |               |                                                             | file's path)    |
+| cameras/      | camera (webcams), camera_republish, sim_cameras: the        | tables          |
+|               | stand-in's world (shape files, meshes) rendered by OpenGL   |                 |
 
 The subsystems meet only through ROS topics and services named in interface.py (settings reach
 serial_X as config_X's stored_settings, not as an import); puppet_sim/ shares protocol/'s codec

@@ -160,8 +160,8 @@ def test_every_argument_is_documented(name):
 def test_main_sim_runs_the_right_arm_on_simulated_hardware_by_default():
     nodes, params = load('rviz:=false', 'gui:=false',
                          launch=os.path.join(LAUNCH_DIR, 'main_sim.launch'))
-    assert {'baxter_sim', 'robot_state_publisher', 'config_R', 'serial_R', 'puppet_sim_R',
-            'arm_R', 'ghost', 'recorder'} == set(nodes)
+    assert {'baxter_sim', 'robot_state_publisher', 'sim_cameras', 'config_R', 'serial_R',
+            'puppet_sim_R', 'arm_R', 'ghost', 'recorder'} == set(nodes)
     assert params['/serial_R/port_name'] == params['/puppet_sim_R/port_link']
 
 
@@ -230,7 +230,10 @@ def test_the_operator_host_gives_each_side_its_own_port():
 @pytest.mark.parametrize('launch, args, runs', [
     ('operator.launch', ['sim_puppet:=true'],
      {'config_L', 'serial_L', 'puppet_sim_L', 'gui_L', 'recorder', 'rviz', 'ghost'}),
-    ('robot.launch', [], {'arm_L', 'arm_R', 'baxter_sim', 'robot_state_publisher'}),
+    ('robot.launch', [], {'arm_L', 'arm_R', 'baxter_sim', 'robot_state_publisher',
+                          'sim_cameras'}),
+    ('robot.launch', ['sim_cameras:=false'],
+     {'arm_L', 'arm_R', 'baxter_sim', 'robot_state_publisher'}),
     ('robot.launch', ['sim_robot:=false', 'run_side_L:=false'], {'arm_R'}),
 ])
 def test_each_host_runs_its_own_nodes_only(launch, args, runs):

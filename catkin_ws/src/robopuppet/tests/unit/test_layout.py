@@ -23,15 +23,18 @@ LAYERS = {
     'gui': {'calibration', 'config', 'episodes', 'puppet_sim'},
     'ghost': {'arm'},
     'episodes': {'arm', 'config'},
+    'cameras': set(),
 }
 # The modules that may talk to ROS: the node adapters (named *_node; only the executables in
 # nodes/ import them) and the adapters they use.
 ADAPTERS = {
-    'config.config_node', 'protocol.serial_node', 'arm.arm_node',
+    'config.config_node', 'protocol.serial_node', 'arm.arm_node', 'arm.link_topics',
     'puppet_sim.puppet_sim_node', 'baxter_sim.baxter_sim_node', 'gui.gui_node',
     'gui.puppet_client', 'ghost.ghost_node', 'calibration.calibrate_node',
     'episodes.export_files', 'episodes.recorder_node', 'episodes.episode_files',
-    'episodes.replay_node',
+    'episodes.replay_node', 'episodes.puppet_player',
+    'cameras.camera_node', 'cameras.republish_node', 'gui.camera_client',
+    'cameras.sim_camera_node',
 }
 # The GUI's widgets are Qt by nature; they may import Qt but not rospy.
 QT_MODULES_OK = 'gui'

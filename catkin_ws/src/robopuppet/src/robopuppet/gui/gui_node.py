@@ -5,6 +5,7 @@ import rospy
 from PyQt5 import QtCore, QtWidgets
 
 from robopuppet import interface
+from robopuppet.gui.camera_client import CameraClient
 from robopuppet.gui.puppet_client import PuppetClient, SimPuppetClient
 from robopuppet.gui.state import ArmState
 from robopuppet.gui.window import Window
@@ -41,7 +42,9 @@ def main():
 
     Node gui_X (see Window, PuppetClient and SimPuppetClient for the topics):
     Subscribes: /puppet/arm_X/{heartbeat, opmode, teleop_state, user_btn, gripper_G,
-        joint_J/enc_stat, joint_J/angle, joint_J/voltage, joint_J/setpoint}, /diagnostics.
+        joint_J/enc_stat, joint_J/angle, joint_J/voltage, joint_J/setpoint, link_state},
+        /diagnostics; while the Cameras tab shows, the chosen camera's
+        /cameras/<name>/image/compressed (see CameraClient).
     Publishes: /puppet/arm_X/opmode, /puppet/arm_X/joint_J/setpoint; with ~sim_puppet also
         /puppet_sim/arm_X/{hand, button, grippers} (latched).
     Calls: /puppet/arm_X/get_config (Get), /puppet/arm_X/set_config (Set).
@@ -59,7 +62,7 @@ def main():
         raise SystemExit(1)
     app = QtWidgets.QApplication(sys.argv[:1])
     window = Window(PuppetClient(side, ArmState()), debug_mode,
-                    SimPuppetClient(side) if sim_puppet else None)
+                    SimPuppetClient(side) if sim_puppet else None, CameraClient())
     rospy.loginfo('gui for arm %s: %.0f frames/s, joint tabs %s, virtual puppet %s', side,
                   frame_rate_hz, 'on' if debug_mode else 'off', 'on' if sim_puppet else 'off')
     run(app, window, frame_rate_hz)

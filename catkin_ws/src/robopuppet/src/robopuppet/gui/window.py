@@ -1,8 +1,10 @@
-"""The GUI window: main tab, calibration wizard, optional joint tabs and virtual puppet panel."""
+"""The GUI window: main tab, cameras, calibration wizard, optional joint tabs and virtual puppet
+panel."""
 from PyQt5 import QtWidgets
 
 from robopuppet import settings
 from robopuppet.gui.calibration_tab import CalibrationTab
+from robopuppet.gui.camera_pane import CameraPane
 from robopuppet.gui.joint_tab import JointTab
 from robopuppet.gui.main_tab import MainTab
 from robopuppet.gui.sim_panel import SimPanel
@@ -18,15 +20,19 @@ class Window(QtWidgets.QMainWindow):
         client: a PuppetClient (or a test double with .side, .state, .now() and its setters).
         debug_mode: show the seven joint tabs.
         sim: a SimPuppetClient to show the virtual puppet panel, or None.
+        cameras: a CameraClient to show the Cameras tab (camera_pane), or None.
     """
 
-    def __init__(self, client, debug_mode=True, sim=None):
+    def __init__(self, client, debug_mode=True, sim=None, cameras=None):
         super().__init__()
         self.client = client
         self.setWindowTitle('RoboPuppet — arm %s' % client.side)
         self.tabs = QtWidgets.QTabWidget()
         self.main_tab = MainTab(client)
         self.tabs.addTab(self.main_tab, 'Main')
+        self.camera_pane = CameraPane(cameras) if cameras is not None else None
+        if self.camera_pane is not None:
+            self.tabs.addTab(self.camera_pane, 'Cameras')
         self.calibration_tab = CalibrationTab(client)
         self.tabs.addTab(self.calibration_tab, 'Calibration')
         self.joint_tabs = []

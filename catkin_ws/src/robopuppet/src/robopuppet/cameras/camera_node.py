@@ -1,0 +1,165 @@
+"""camera: a USB/V4L2 webcam (or a video file) as JPEG on /cameras/<name>/image/compressed."""
+import threading
+import time
+
+import rospy
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from sensor_msgs.msg import CameraInfo, CompressedImage
+
+from robopuppet import interface
+from robopuppet.cameras import jpeg, webcam
+from robopuppet.cameras.capture import Capture
+from robopuppet.periodic import Guard, Loop
+
+DIAG_CAMERA = 'camera'  # the status name: '<node>: camera <name>'
+DIAGNOSTICS_PERIOD_S = 1.0
+
+
+class CameraNode:
+    """Publish a webcam's frames at ~rate as JPEG with a CameraInfo; survive a missing device.
+
+    A missing or unplugged device is logged (throttled), reported on /diagnostics (ERROR,
+    naming the device) and opened again with a growing pause (webcam.Retry); the node never
+    exits for it. Each image is stamped with the time its frame was grabbed and has exactly
+    ~width x ~height pixels (resized when the device delivers another size).
+
+    Publishes: /cameras/<name>/image/compressed (sensor_msgs/CompressedImage, JPEG,
+        format jpeg.JPEG_FORMAT), /cameras/<name>/camera_info (sensor_msgs/CameraInfo, same
+        stamp, an ideal pinhole of ~hfov_deg), /diagnostics (1 Hz: '<node>: camera <name>',
+        hardware_id the device; OK while streaming, ERROR while the device is missing).
+    Parameters (webcam.DEFAULTS): ~name (str, room_camera), ~device (str or int, /dev/video0:
+        a V4L2 device, its index, or a video file played in a loop), ~width and ~height (int,
+        640 x 480 pixels), ~rate (float, 15 Hz), ~quality (int 1..100, 80), ~hfov_deg (float,
+        60 degrees), ~frame_id (str, <name>_optical_frame).
+    """
+
+    def __init__(self, settings):
+        self.settings = s = settings
+        self._name = rospy.get_name()
+        self._image_pub = rospy.Publisher(interface.camera_topic(s.name, 'image/compressed'),
+                                          CompressedImage, queue_size=2)
+        self._info_pub = rospy.Publisher(interface.camera_topic(s.name, 'camera_info'),
+                                         CameraInfo, queue_size=2)
+        self._diag_pub = rospy.Publisher(interface.DIAGNOSTICS, DiagnosticArray, queue_size=10)
+        model = webcam.camera_model(s.width, s.height, s.hfov_deg)
+        self._info = CameraInfo(width=s.width, height=s.height, distortion_model='plumb_bob',
+                                D=model.D, K=model.K, R=model.R, P=model.P)
+        self._info.header.frame_id = s.frame_id
+        self._retry = webcam.Retry(first_s=0.5, max_s=2.0)  # a replugged webcam: back in 2 s
+        self._lock = threading.Lock()  # the counters below, read by the diagnostics loop
+        self._capture, self._streaming = None, False
+        self._published, self._jpeg_bytes, self._last_count = 0, 0, (time.monotonic(), 0)
+        guard = Guard(self._name, rospy.logerr)
+        self._loops = [Loop(guard, 'camera', 1.0 / s.rate_hz, self._tick),
+                       Loop(guard, 'camera diagnostics', DIAGNOSTICS_PERIOD_S, self._diagnose)]
+
+    def run(self):
+        """Capture and publish until shutdown."""
+        rospy.on_shutdown(self._stop)
+        for loop in self._loops:
+            loop.start()
+        rospy.spin()
+
+    def _stop(self):
+        for loop in self._loops:
+            loop.stop(2.0)
+        if self._capture is not None:
+            self._capture.release()
+
+    def _tick(self):
+        if self._capture is None and not self._open():
+            return
+        problem = self._capture.grab()
+        stamp = rospy.Time.now()  # the frame's capture time: grab() waited for it
+        frame = None if problem else self._capture.retrieve()
+        if frame is None:
+            self._capture.release()
+            self._capture = None
+            self._failed(problem or 'the device delivered an unreadable frame')
+            return
+        s = self.settings
+        data = jpeg.encode(jpeg.fit(frame, s.width, s.height), s.quality)
+        msg = CompressedImage(format=jpeg.JPEG_FORMAT, data=data)
+        msg.header.stamp, msg.header.frame_id = stamp, s.frame_id
+        self._info.header.stamp = stamp
+        self._image_pub.publish(msg)
+        self._info_pub.publish(self._info)
+        with self._lock:
+            self._published += 1
+            self._jpeg_bytes = len(data)
+        if not self._streaming:
+            self._first_frame()
+
+    def _open(self):
+        """Try to open the device if a retry is due; return True when it is open."""
+        if not self._retry.due(time.monotonic()):
+            return False
+        device = self.settings.device
+        problem = webcam.missing(device)
+        if not problem:
+            capture = Capture(device)
+            if capture.opened():
+                if not webcam.is_file(device):
+                    capture.configure(self.settings.width, self.settings.height,
+                                      self.settings.rate_hz)
+                self._capture, self._streaming = capture, False
+                return True
+            capture.release()
+            problem = 'cannot be opened as a camera or video'
+        self._failed(problem)
+        return False
+
+    def _first_frame(self):
+        """The device delivers: reset the retries and say so."""
+        self._streaming = True
+        with self._lock:
+            failures = self._retry.succeeded()
+        s = self.settings
+        rospy.loginfo('%s: camera %s streams from %s (%dx%d at %g Hz, JPEG quality %d)%s',
+                      self._name, s.name, webcam.describe(s.device), s.width, s.height,
+                      s.rate_hz, s.quality,
+                      ' after %d failed attempts' % failures if failures else '')
+
+    def _failed(self, problem):
+        with self._lock:
+            line = self._retry.failed(time.monotonic(), '%s: %s' % (
+                webcam.describe(self.settings.device), problem))
+        if line is not None:
+            rospy.logerr('%s: camera %s: %s', self._name, self.settings.name, line)
+
+    def _diagnose(self):
+        now_s = time.monotonic()
+        with self._lock:
+            published, size, reason = self._published, self._jpeg_bytes, self._retry.reason
+            failures, delay_s = self._retry.failures, self._retry.delay_s
+        (then_s, then_count), self._last_count = self._last_count, (now_s, published)
+        rate_hz = (published - then_count) / max(now_s - then_s, 1e-3)
+        s = self.settings
+        if reason:
+            level, message = DiagnosticStatus.ERROR, 'no images: %s; retrying in %.1f s' % (
+                reason, delay_s)
+        elif not self._streaming:
+            level, message = DiagnosticStatus.WARN, 'opening %s' % webcam.describe(s.device)
+        else:
+            level, message = DiagnosticStatus.OK, 'streaming %dx%d at %.1f frames/s' % (
+                s.width, s.height, rate_hz)
+        values = [('device', webcam.describe(s.device)), ('frames published', str(published)),
+                  ('rate_hz', '%.1f' % rate_hz), ('jpeg_bytes', str(size)),
+                  ('failed attempts', str(failures))]
+        array = DiagnosticArray(status=[DiagnosticStatus(
+            level=level, name='%s: %s %s' % (self._name, DIAG_CAMERA, s.name), message=message,
+            hardware_id=str(s.device), values=[KeyValue(k, v) for k, v in values])])
+        array.header.stamp = rospy.Time.now()
+        self._diag_pub.publish(array)
+
+
+def main():
+    """Run the camera node until shutdown (a bad parameter ends it with a clear message)."""
+    rospy.init_node('camera')
+    try:
+        settings = webcam.read_settings(lambda name, default: rospy.get_param('~' + name,
+                                                                              default))
+    except ValueError as error:
+        rospy.logfatal('camera cannot start: %s', error)
+        raise SystemExit(1)
+    CameraNode(settings).run()

@@ -1,0 +1,241 @@
+"""The simulated cameras of the Baxter stand-in's world: settings, camera models and frames.
+
+Baxter's own cameras (interface.BAXTER_CAMERAS) ride on the URDF's camera frames, posed by the
+joint positions; the room camera(s) stand where the world file puts them. Each is an ideal
+pinhole (no distortion) whose CameraInfo matches the rendered image exactly. Pure: no ROS; the
+OpenGL context is made on the first render, in the thread that renders (gl_renderer).
+"""
+import collections
+import math
+
+from robopuppet import interface, params
+from robopuppet.cameras import meshes, robot_shapes, scene
+
+# ~parameter -> default (docs/cameras.md and the node's docstring list the same)
+DEFAULTS = {
+    'rate': 15.0,        # Hz: frames per camera per second while someone watches it
+    'width': 640,        # pixels of every camera's image
+    'height': 480,
+    'quality': 80,       # JPEG quality 1..100 of image/compressed
+    'cameras': [interface.ROOM_CAMERA, 'left_hand_camera', 'right_hand_camera'],
+    'world_file': '',    # '' means the package's config/world.yaml
+    'obstacles_file': '',  # '' means config/obstacles.yaml, drawn if it exists (issue 12)
+    'zones_file': '',    # '' means config/zones.yaml, drawn translucent red if it exists
+    'nice': 10,          # added to the node's nice value: pictures yield the CPU to control
+}
+SIZE_RANGE = (16, 4096)  # pixels, each side
+# jpeg.QUALITY_RANGE, not imported from there: jpeg loads OpenCV (0.6 s of CPU), which the node
+# needs only once someone watches a camera (test_sim_cameras checks that the two agree).
+QUALITY_RANGE = (1, 100)
+MAX_RATE_HZ = 60.0
+# Focal lengths (px) at 640 pixels wide. A real Baxter's calibrated left hand camera at 640x400
+# (the central crop of its 1280x800 sensor) has fx 403.1, fy 403.9; Rethink's head camera
+# CameraInfo says 410. A 640x480 image is that crop with 40 more rows above and below.
+BAXTER_FOCAL_PX = {'left_hand_camera': 403.0, 'right_hand_camera': 403.0,
+                   'head_camera': 410.0}
+REFERENCE_WIDTH = 640
+OBSTACLE_COLOUR = (0.85, 0.55, 0.15)
+ZONE_RGBA = (1.0, 0.0, 0.0, 0.3)
+
+Settings = collections.namedtuple('Settings', 'rate_hz width height quality cameras world_file '
+                                              'obstacles_file zones_file nice')
+Settings.__doc__ = """The node's checked parameters (see DEFAULTS; '' files not resolved)."""
+Camera = collections.namedtuple('Camera', 'name frame_id link pose k')
+Camera.__doc__ = """One simulated camera: frame_id of its images; link: the URDF frame it rides
+on (None for a fixed camera); pose: its fixed 4x4 optical-frame pose in the base frame (None
+for a Baxter camera); k: 3x3 intrinsics [[fx, 0, cx], [0, fy, cy], [0, 0, 1]]."""
+
+
+def _pixels(name, value):
+    low, high = SIZE_RANGE
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or value != int(value) \
+            or not low <= value <= high:
+        raise ValueError('~%s must be a whole number of pixels in %d..%d, got %r'
+                         % (name, low, high, value))
+    return int(value)
+
+
+def _quality(value):
+    low, high = QUALITY_RANGE
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or value != int(value) \
+            or not low <= value <= high:
+        raise ValueError('~quality must be a whole number in %d..%d, got %r' % (low, high, value))
+    return int(value)
+
+
+def read_settings(get):
+    """Return the checked Settings, reading each parameter with get(name, default).
+
+    Raises:
+        ValueError: a parameter is out of range or of the wrong kind; the message names it.
+    """
+    raw = {name: get(name, default) for name, default in DEFAULTS.items()}
+    rate_hz = params.positive('~rate', raw['rate'])
+    if rate_hz > MAX_RATE_HZ:
+        raise ValueError('~rate must be at most %g Hz, got %r' % (MAX_RATE_HZ, raw['rate']))
+    cameras = raw['cameras']
+    if not (isinstance(cameras, list) and cameras and all(
+            isinstance(c, str) and c for c in cameras) and len(set(cameras)) == len(cameras)):
+        raise ValueError('~cameras must be a list of different camera names, got %r'
+                         % (cameras,))
+    for key in ('world_file', 'obstacles_file', 'zones_file'):
+        if not isinstance(raw[key], str):
+            raise ValueError('~%s must be a file path, got %r' % (key, raw[key]))
+    nice = raw['nice']
+    if isinstance(nice, bool) or not isinstance(nice, int) or not 0 <= nice <= 19:
+        raise ValueError('~nice must be a whole number in 0..19, got %r' % (nice,))
+    return Settings(rate_hz, _pixels('width', raw['width']), _pixels('height', raw['height']),
+                    _quality(raw['quality']), list(cameras), raw['world_file'],
+                    raw['obstacles_file'], raw['zones_file'], nice)
+
+
+def intrinsics(focal_px, width, height):
+    """Return K of a pinhole with this focal length (px) and the principal point at the image
+    centre, pixel centres at whole coordinates (ROS): cx = (width - 1) / 2."""
+    return [[focal_px, 0.0, (width - 1) / 2.0], [0.0, focal_px, (height - 1) / 2.0],
+            [0.0, 0.0, 1.0]]
+
+
+def make_cameras(names, world, width, height):
+    """Return {name: Camera} for camera names: Baxter's (BAXTER_CAMERAS) or the world's.
+
+    The head camera's frame is turned 180 degrees about its axis (URDF), so its focal lengths
+    are negative: the image comes out upright, as a real Baxter's does.
+
+    Raises:
+        ValueError: a name that is neither Baxter's nor in the world file.
+    """
+    cameras = {}
+    for name in names:
+        if name in interface.BAXTER_CAMERAS:
+            focal_px = BAXTER_FOCAL_PX[name] * width / REFERENCE_WIDTH
+            if name == 'head_camera':
+                focal_px = -focal_px
+            cameras[name] = Camera(name, name, name, None, intrinsics(focal_px, width, height))
+        elif name in world.cameras:
+            fixed = world.cameras[name]
+            focal_px = (width / 2.0) / math.tan(math.radians(fixed.hfov_deg) / 2.0)
+            cameras[name] = Camera(name, '%s_optical_frame' % name, None,
+                                   scene.look_at_pose(fixed.xyz, fixed.look_at),
+                                   intrinsics(focal_px, width, height))
+        else:
+            raise ValueError('unknown camera %r: not one of Baxter\'s (%s) nor in the world '
+                             'file (%s)' % (name, ', '.join(interface.BAXTER_CAMERAS),
+                                            ', '.join(sorted(world.cameras)) or 'none'))
+    return cameras
+
+
+def camera_info_fields(camera, width, height):
+    """Return sensor_msgs/CameraInfo's fields of a Camera (no distortion, P = [K | 0])."""
+    k = camera.k
+    return {'width': width, 'height': height, 'distortion_model': 'plumb_bob',
+            'D': [0.0] * 5, 'K': [v for row in k for v in row],
+            'R': [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0],
+            'P': [k[0][0], 0.0, k[0][2], 0.0, 0.0, k[1][1], k[1][2], 0.0, 0.0, 0.0, 1.0, 0.0]}
+
+
+def check_positions(names, positions):
+    """Return {name: position} of a joint state's lists.
+
+    Raises:
+        ValueError: lists of different lengths, a name that is not a string, or a position
+            that is not a finite number.
+    """
+    if len(names) != len(positions):
+        raise ValueError('%d joint names but %d positions' % (len(names), len(positions)))
+    for name, value in zip(names, positions):
+        if not isinstance(name, str) or isinstance(value, bool) or \
+                not isinstance(value, (int, float)) or not math.isfinite(value):
+            raise ValueError('joint %r has position %r, not a finite number' % (name, value))
+    return dict(zip(names, (float(p) for p in positions)))
+
+
+class SimCameras:
+    """Render the stand-in's world from each camera for the newest joint positions.
+
+    A camera's image is rendered again only after the positions changed: the same positions
+    give the same pixels. render() makes the OpenGL context on its first call: call it from one
+    thread only.
+
+    Args:
+        urdf_text: the robot description (joints, camera frames, visual shapes).
+        world: a scene.World (floor, shapes, fixed cameras).
+        width, height: pixels of every image.
+        names: the cameras to render (see make_cameras).
+        obstacles, zones: lists of scene.Shapes, drawn opaque orange-ish and translucent red.
+        renderer_factory(width, height): makes the renderer (gl_renderer.Renderer).
+    Raises:
+        ValueError: an unknown camera name or a description that cannot be drawn.
+    """
+
+    def __init__(self, urdf_text, world, width, height, names, obstacles=(), zones=(),
+                 renderer_factory=None):
+        self.width, self.height = width, height
+        self.robot = robot_shapes.RobotMesh(urdf_text)
+        self.cameras = make_cameras(names, world, width, height)
+        missing = [c.link for c in self.cameras.values()
+                   if c.link is not None and c.link not in self.robot.poser.reachable()]
+        if missing:
+            raise ValueError('the robot description has no camera frame %s' % missing)
+        self._world_mesh = meshes.merged(
+            [scene.world_mesh(world)]
+            + [scene.shape_mesh(s, default=OBSTACLE_COLOUR) for s in obstacles])
+        self._zones_mesh = meshes.merged(scene.shape_mesh(s) for s in zones)
+        self._factory = renderer_factory
+        self._renderer = None
+        self._positions = {}
+        self.version = 0  # counts changes of the positions
+        self._posed_version, self._link_poses = None, None
+        self._images = {}  # camera name -> (version, image)
+
+    def set_positions(self, positions):
+        """Take {joint: position (rad or m)} (joints not given keep theirs); return True if
+        anything changed."""
+        changed = {n: p for n, p in positions.items() if self._positions.get(n) != p}
+        if changed:
+            self._positions.update(changed)
+            self.version += 1
+        return bool(changed)
+
+    def _pose_robot(self):
+        if self._posed_version != self.version:
+            mesh, self._link_poses = self.robot.posed(self._positions)
+            if self._renderer is not None:
+                self._renderer.set_robot(mesh)
+            self._posed_version = self.version
+
+    def camera_pose(self, name):
+        """Return the 4x4 pose of a camera's optical frame in the base frame, now."""
+        camera = self.cameras[name]
+        if camera.link is None:
+            return camera.pose
+        self._pose_robot()
+        return self._link_poses[camera.link]
+
+    def render(self, name):
+        """Return (BGR image (height, width, 3 uint8), version of the positions it shows).
+
+        The image is the same object as long as the positions stay the same: do not modify it.
+        """
+        version, image = self._images.get(name, (None, None))
+        if version == self.version:
+            return image, version
+        if self._renderer is None:
+            if self._factory is None:
+                from robopuppet.cameras import gl_renderer  # OpenGL only where it renders
+                self._factory = gl_renderer.Renderer
+            self._renderer = self._factory(self.width, self.height)
+            self._renderer.set_world(self._world_mesh)
+            self._renderer.set_zones(self._zones_mesh, ZONE_RGBA)
+            self._posed_version = None  # the new renderer has no robot yet
+        self._pose_robot()
+        image = self._renderer.render(self.camera_pose(name), self.cameras[name].k)
+        self._images[name] = (self.version, image)
+        return image, self.version
+
+    def close(self):
+        """Release the renderer (a later render() makes a new one)."""
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+            self._images.clear()
