@@ -3,7 +3,7 @@ import cv2
 import numpy as np
 import pytest
 
-from robopuppet.cameras import jpeg
+from robopuppet.cameras import image_params, jpeg
 
 
 def scene(width=640, height=480):
@@ -48,11 +48,17 @@ def test_a_higher_quality_gives_more_bytes_and_a_closer_image():
 @pytest.mark.parametrize('value', [0, 101, -5, 80.5, '80', None, True])
 def test_a_bad_quality_is_refused_with_the_parameter_named(value):
     with pytest.raises(ValueError, match='~quality'):
-        jpeg.check_quality(value)
+        image_params.quality(value)
 
 
 def test_a_whole_float_quality_is_accepted():
-    assert jpeg.check_quality(75.0) == 75
+    assert image_params.quality(75.0) == 75
+
+
+@pytest.mark.parametrize('value', [15, 4097, 640.5, '640', None, False])
+def test_a_bad_image_side_is_refused_with_the_parameter_named(value):
+    with pytest.raises(ValueError, match='~width must be a whole number of pixels in 16..4096'):
+        image_params.pixels('width', value)
 
 
 def test_encoding_nothing_raises_a_jpeg_error():

@@ -221,7 +221,6 @@ def test_camera_info_is_the_pinhole_that_renders():
 
 
 def test_settings_defaults_and_refusals():
-    assert sim_cameras.QUALITY_RANGE == jpeg.QUALITY_RANGE
     s = sim_cameras.read_settings(lambda name, default: default)
     assert (s.rate_hz, s.width, s.height, s.quality, s.nice) == (15.0, 640, 480, 80, 10)
     assert s.cameras == ['room_camera', 'left_hand_camera', 'right_hand_camera']

@@ -8,7 +8,6 @@ import numpy as np
 
 # sensor_msgs/CompressedImage.format of a JPEG made from a bgr8 image (compressed_image_transport)
 JPEG_FORMAT = 'bgr8; jpeg compressed bgr8'
-QUALITY_RANGE = (1, 100)  # OpenCV's (and libjpeg's) JPEG quality scale
 
 # sensor_msgs/Image encoding -> (bytes per pixel, OpenCV conversion to BGR or None)
 RAW_ENCODINGS = {
@@ -28,19 +27,6 @@ _LUMA_ZIGZAG = (16, 11, 12, 14, 12, 10, 16, 14, 13, 14, 18, 17, 16, 19, 24, 40, 
 
 class JpegError(ValueError):
     """An image could not be encoded, or bytes are not a JPEG this module understands."""
-
-
-def check_quality(value):
-    """Return a JPEG quality as an int in 1..100.
-
-    Raises:
-        ValueError: not a whole number in that range (bools are refused).
-    """
-    low, high = QUALITY_RANGE
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or value != int(value) \
-            or not low <= value <= high:
-        raise ValueError('~quality must be a whole number in %d..%d, got %r' % (low, high, value))
-    return int(value)
 
 
 def fit(image, width, height):

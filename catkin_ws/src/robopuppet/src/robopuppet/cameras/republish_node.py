@@ -8,7 +8,7 @@ import rospy
 from sensor_msgs.msg import CompressedImage, Image
 
 from robopuppet import interface
-from robopuppet.cameras import jpeg
+from robopuppet.cameras import image_params, jpeg
 
 DEFAULT_QUALITY = 80
 
@@ -59,7 +59,7 @@ def main():
         if not (isinstance(cameras, list) and cameras
                 and all(isinstance(c, str) and c for c in cameras)):
             raise ValueError('~cameras must be a list of camera names, got %r' % (cameras,))
-        quality = jpeg.check_quality(rospy.get_param('~quality', DEFAULT_QUALITY))
+        quality = image_params.quality(rospy.get_param('~quality', DEFAULT_QUALITY))
     except ValueError as error:
         rospy.logfatal('camera_republish cannot start: %s', error)
         raise SystemExit(1)

@@ -9,7 +9,7 @@ import collections
 import math
 
 from robopuppet import interface, params
-from robopuppet.cameras import meshes, robot_shapes, scene
+from robopuppet.cameras import image_params, meshes, robot_shapes, scene
 
 # ~parameter -> default (docs/cameras.md and the node's docstring list the same)
 DEFAULTS = {
@@ -23,10 +23,6 @@ DEFAULTS = {
     'zones_file': '',    # '' means config/zones.yaml, drawn translucent red if it exists
     'nice': 10,          # added to the node's nice value: pictures yield the CPU to control
 }
-SIZE_RANGE = (16, 4096)  # pixels, each side
-# jpeg.QUALITY_RANGE, not imported from there: jpeg loads OpenCV (0.6 s of CPU), which the node
-# needs only once someone watches a camera (test_sim_cameras checks that the two agree).
-QUALITY_RANGE = (1, 100)
 MAX_RATE_HZ = 60.0
 # Focal lengths (px) at 640 pixels wide. A real Baxter's calibrated left hand camera at 640x400
 # (the central crop of its 1280x800 sensor) has fx 403.1, fy 403.9; Rethink's head camera
@@ -44,23 +40,6 @@ Camera = collections.namedtuple('Camera', 'name frame_id link pose k')
 Camera.__doc__ = """One simulated camera: frame_id of its images; link: the URDF frame it rides
 on (None for a fixed camera); pose: its fixed 4x4 optical-frame pose in the base frame (None
 for a Baxter camera); k: 3x3 intrinsics [[fx, 0, cx], [0, fy, cy], [0, 0, 1]]."""
-
-
-def _pixels(name, value):
-    low, high = SIZE_RANGE
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or value != int(value) \
-            or not low <= value <= high:
-        raise ValueError('~%s must be a whole number of pixels in %d..%d, got %r'
-                         % (name, low, high, value))
-    return int(value)
-
-
-def _quality(value):
-    low, high = QUALITY_RANGE
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or value != int(value) \
-            or not low <= value <= high:
-        raise ValueError('~quality must be a whole number in %d..%d, got %r' % (low, high, value))
-    return int(value)
 
 
 def read_settings(get):
@@ -84,8 +63,9 @@ def read_settings(get):
     nice = raw['nice']
     if isinstance(nice, bool) or not isinstance(nice, int) or not 0 <= nice <= 19:
         raise ValueError('~nice must be a whole number in 0..19, got %r' % (nice,))
-    return Settings(rate_hz, _pixels('width', raw['width']), _pixels('height', raw['height']),
-                    _quality(raw['quality']), list(cameras), raw['world_file'],
+    return Settings(rate_hz, image_params.pixels('width', raw['width']),
+                    image_params.pixels('height', raw['height']),
+                    image_params.quality(raw['quality']), list(cameras), raw['world_file'],
                     raw['obstacles_file'], raw['zones_file'], nice)
 
 

@@ -10,7 +10,7 @@ import re
 import cv2
 
 from robopuppet import interface, params
-from robopuppet.cameras import jpeg
+from robopuppet.cameras import image_params
 
 # ~parameter -> default (docs/cameras.md and launch/camera.launch list the same)
 DEFAULTS = {
@@ -23,7 +23,6 @@ DEFAULTS = {
     'hfov_deg': 60.0,               # horizontal field of view for CameraInfo
     'frame_id': '',                 # header.frame_id; '' means <name>_optical_frame
 }
-SIZE_RANGE = (16, 4096)  # pixels, each side
 MAX_RATE_HZ = 120.0
 NAME_PATTERN = re.compile(r'^[A-Za-z][A-Za-z0-9_]*$')  # one ROS name segment
 
@@ -31,15 +30,6 @@ Settings = collections.namedtuple('Settings', 'name device width height rate_hz 
                                               'hfov_deg frame_id')
 Settings.__doc__ = """The camera node's checked parameters (see DEFAULTS; device is an int index
 or a path)."""
-
-
-def _whole(name, value):
-    low, high = SIZE_RANGE
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or value != int(value) \
-            or not low <= value <= high:
-        raise ValueError('~%s must be a whole number of pixels in %d..%d, got %r'
-                         % (name, low, high, value))
-    return int(value)
 
 
 def parse_device(value):
@@ -80,8 +70,8 @@ def read_settings(get):
     frame_id = raw['frame_id'] or '%s_optical_frame' % name
     if not isinstance(frame_id, str):
         raise ValueError('~frame_id must be a string, got %r' % (frame_id,))
-    return Settings(name, parse_device(raw['device']), _whole('width', raw['width']),
-                    _whole('height', raw['height']), rate_hz, jpeg.check_quality(raw['quality']),
+    return Settings(name, parse_device(raw['device']), image_params.pixels('width', raw['width']),
+                    image_params.pixels('height', raw['height']), rate_hz, image_params.quality(raw['quality']),
                     hfov_deg, frame_id)
 
 
