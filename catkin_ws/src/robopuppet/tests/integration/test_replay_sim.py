@@ -79,7 +79,9 @@ class ReplaySimTest(unittest.TestCase):
         position = dict(zip(msg.name, msg.position))
         if all(n in position for n in NAMES):
             with cls.lock:
-                cls.measured.append((time.monotonic(), [position[n] for n in NAMES]))
+                # Baxter's own stamp (when the stand-in computed the pose), not this process's
+                # receipt time: the path is Baxter's, the test's scheduling is no part of it.
+                cls.measured.append((msg.header.stamp.to_sec(), [position[n] for n in NAMES]))
 
     @classmethod
     def _on_button(cls, msg):
@@ -91,12 +93,12 @@ class ReplaySimTest(unittest.TestCase):
                                 stderr=subprocess.PIPE, text=True)
 
     def test_1_baxter_follows_the_recorded_path(self):
-        started = time.monotonic()
+        started, started_ros = time.monotonic(), rospy.get_time()
         process = self.replay()
         _, err = process.communicate(timeout=40)
         self.assertEqual(process.returncode, 0, err)
         with self.lock:
-            samples = [(t, q) for t, q in self.measured if t > started]
+            samples = [(t, q) for t, q in self.measured if t > started_ros]
         m_t = np.array([t for t, _ in samples])
         m_q = np.array([q for _, q in samples])
         best = math.inf
