@@ -25,10 +25,10 @@ import time
 import cv2
 import numpy as np
 import rospy
-from PyQt5 import QtCore, QtWidgets
+from PyQt5 import QtWidgets
 from sensor_msgs.msg import CompressedImage
 
-from bench_support import percentile, private_roscore
+from bench_support import measure_frames, percentile, private_roscore
 from robopuppet import interface
 from robopuppet.gui.camera_client import CameraClient
 from robopuppet.gui.camera_pane import CameraPane
@@ -79,12 +79,6 @@ def publish_cameras(rate_hz):
             break
 
 
-def run_for(seconds):
-    loop = QtCore.QEventLoop()
-    QtCore.QTimer.singleShot(int(seconds * 1000), loop.quit)
-    loop.exec_()
-
-
 def run_case(window, tab, panes, seconds):
     """Show `tab` and the extra `panes`, draw at 30 Hz for `seconds`.
 
@@ -95,24 +89,16 @@ def run_case(window, tab, panes, seconds):
     for pane in panes:
         pane.show()
     watched = [p for p in panes] + ([tab] if isinstance(tab, CameraPane) else [])
-    timer = QtCore.QTimer()
-    timer.timeout.connect(window.frame)
-    for pane in panes:
-        timer.timeout.connect(pane.refresh)
-    timer.start(FRAME_INTERVAL_MS)
-    run_for(2.0)  # subscribe, find the cameras, warm up
-    for pane in watched:
-        pane.view.display_ages_s.clear()
-    frames = window.frames
-    start_wall, start_cpu = time.monotonic(), time.process_time()
-    run_for(seconds)
-    wall_s = time.monotonic() - start_wall
-    cpu_s = time.process_time() - start_cpu
-    timer.stop()
+
+    def reset():
+        for pane in watched:
+            pane.view.display_ages_s.clear()
+    fps, cpu, wall_s = measure_frames(  # 2 s of warm-up: subscribe, find the cameras
+        window, FRAME_INTERVAL_MS, seconds, 2.0, [pane.refresh for pane in panes], reset)
     ages = [age for pane in watched for age in pane.view.display_ages_s]
     for pane in panes:
         pane.hide()
-    return len(ages) / wall_s, ages, 100.0 * cpu_s / wall_s, (window.frames - frames) / wall_s
+    return len(ages) / wall_s, ages, cpu, fps
 
 
 def start_children(camera_rate_hz, joint_rate_hz):

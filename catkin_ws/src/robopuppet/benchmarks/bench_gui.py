@@ -30,6 +30,7 @@ import rospy
 from PyQt5 import QtCore, QtWidgets
 from std_msgs.msg import Empty, Float32, String
 
+from bench_support import measure_frames
 from robopuppet import interface, settings
 from robopuppet.gui.puppet_client import ConfigUnavailable, PuppetClient
 from robopuppet.gui.state import ArmState
@@ -129,14 +130,6 @@ class PaintCounter(QtCore.QObject):
         return False
 
 
-def run_for(seconds):
-    """Run a Qt event loop for `seconds` (not app.exec_: quitting the app more than once would
-    trigger pyqtgraph's exit clean-up in the middle of the benchmark)."""
-    loop = QtCore.QEventLoop()
-    QtCore.QTimer.singleShot(int(seconds * 1000), loop.quit)
-    loop.exec_()
-
-
 def run_case(window, tab, painted_widget, interval_ms, seconds):
     """Show `tab`, run the frame timer at interval_ms (None: no frames) for `seconds`.
 
@@ -146,20 +139,10 @@ def run_case(window, tab, painted_widget, interval_ms, seconds):
     window.tabs.setCurrentWidget(tab)
     counter = PaintCounter()
     painted_widget.installEventFilter(counter)
-    timer = QtCore.QTimer()
-    timer.timeout.connect(window.frame)
-    if interval_ms is not None:
-        timer.start(interval_ms)
-    run_for(1.0)  # warm up
-    counter.count = 0
-    frames = window.frames
-    start_wall, start_cpu = time.monotonic(), time.process_time()
-    run_for(seconds)
-    wall_s = time.monotonic() - start_wall
-    cpu_s = time.process_time() - start_cpu
-    timer.stop()
+    fps, cpu, wall_s = measure_frames(window, interval_ms, seconds, 1.0,
+                                      reset=lambda: setattr(counter, 'count', 0))
     painted_widget.removeEventFilter(counter)
-    return (window.frames - frames) / wall_s, counter.count / wall_s, 100.0 * cpu_s / wall_s
+    return fps, counter.count / wall_s, cpu
 
 
 def main():

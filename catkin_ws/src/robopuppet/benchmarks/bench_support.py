@@ -1,4 +1,5 @@
-"""What the benchmark scripts share: a private roscore, percentiles and node processes."""
+"""What the benchmark scripts share: a private roscore, percentiles, node processes and the
+GUI benchmarks' measured frame loop."""
 import contextlib
 import glob
 import math
@@ -12,6 +13,7 @@ import time
 
 import psutil
 import rosgraph
+from PyQt5 import QtCore
 
 
 def percentile(values, fraction):
@@ -103,3 +105,39 @@ def private_roscore(prefix):
         core.terminate()
         core.wait(10)
         shutil.rmtree(work, ignore_errors=True)
+
+
+def run_for(seconds):
+    """Run a Qt event loop for `seconds` (not app.exec_: quitting the app more than once would
+    trigger pyqtgraph's exit clean-up in the middle of the benchmark)."""
+    loop = QtCore.QEventLoop()
+    QtCore.QTimer.singleShot(int(seconds * 1000), loop.quit)
+    loop.exec_()
+
+
+def measure_frames(window, interval_ms, seconds, warm_up_s, also=(), reset=None):
+    """Draw a GUI window's frames on a QTimer and measure them and this process's CPU.
+
+    Every interval_ms (None: no frames, the feed alone) the timer calls window.frame() and then
+    each function of `also`; after warm_up_s reset() (if given) clears the caller's counters,
+    and then `seconds` are measured.
+
+    Returns:
+        (frame() calls per second, CPU time per wall second in % of one core, wall s measured)
+    """
+    timer = QtCore.QTimer()
+    timer.timeout.connect(window.frame)
+    for function in also:
+        timer.timeout.connect(function)
+    if interval_ms is not None:
+        timer.start(interval_ms)
+    run_for(warm_up_s)
+    if reset is not None:
+        reset()
+    frames = window.frames
+    start_wall, start_cpu = time.monotonic(), time.process_time()
+    run_for(seconds)
+    wall_s = time.monotonic() - start_wall
+    cpu_s = time.process_time() - start_cpu
+    timer.stop()
+    return (window.frames - frames) / wall_s, 100.0 * cpu_s / wall_s, wall_s

@@ -7,12 +7,10 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from sensor_msgs.msg import CameraInfo, CompressedImage
 
 from robopuppet import interface
-from robopuppet.cameras import jpeg, webcam
+from robopuppet.cameras import jpeg, node_loops, webcam
 from robopuppet.cameras.capture import Capture
-from robopuppet.periodic import Guard, Loop
 
 DIAG_CAMERA = 'camera'  # the status name: '<node>: camera <name>'
-DIAGNOSTICS_PERIOD_S = 1.0
 
 
 class CameraNode:
@@ -49,20 +47,13 @@ class CameraNode:
         self._lock = threading.Lock()  # the counters below, read by the diagnostics loop
         self._capture, self._streaming = None, False
         self._published, self._jpeg_bytes, self._last_count = 0, 0, (time.monotonic(), 0)
-        guard = Guard(self._name, rospy.logerr)
-        self._loops = [Loop(guard, 'camera', 1.0 / s.rate_hz, self._tick),
-                       Loop(guard, 'camera diagnostics', DIAGNOSTICS_PERIOD_S, self._diagnose)]
 
     def run(self):
         """Capture and publish until shutdown."""
-        rospy.on_shutdown(self._stop)
-        for loop in self._loops:
-            loop.start()
-        rospy.spin()
+        node_loops.spin('camera', self.settings.rate_hz, self._tick, self._diagnose,
+                        self._release)
 
-    def _stop(self):
-        for loop in self._loops:
-            loop.stop(2.0)
+    def _release(self):
         if self._capture is not None:
             self._capture.release()
 

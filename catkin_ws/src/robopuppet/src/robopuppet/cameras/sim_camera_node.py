@@ -11,10 +11,7 @@ from geometry_msgs.msg import TransformStamped
 from sensor_msgs.msg import CameraInfo, CompressedImage, Image, JointState
 
 from robopuppet import baxter_description as bd, interface
-from robopuppet.cameras import scene, sim_cameras
-from robopuppet.periodic import Guard, Loop
-
-DIAGNOSTICS_PERIOD_S = 1.0
+from robopuppet.cameras import node_loops, scene, sim_cameras
 
 
 class SimCameraNode:
@@ -63,20 +60,10 @@ class SimCameraNode:
         self._broadcaster = tf2_ros.StaticTransformBroadcaster()
         self._broadcast_fixed_frames()
         rospy.Subscriber(interface.ROBOT_JOINT_STATES, JointState, self._on_joints, queue_size=1)
-        guard = Guard(self._name, rospy.logerr)
-        self._loops = [Loop(guard, 'render', 1.0 / settings.rate_hz, self._tick),
-                       Loop(guard, 'camera diagnostics', DIAGNOSTICS_PERIOD_S, self._diagnose)]
 
     def run(self):
         """Render and publish until shutdown."""
-        rospy.on_shutdown(self._stop)
-        for loop in self._loops:
-            loop.start()
-        rospy.spin()
-
-    def _stop(self):
-        for loop in self._loops:
-            loop.stop(2.0)
+        node_loops.spin('render', self.settings.rate_hz, self._tick, self._diagnose)
 
     def _broadcast_fixed_frames(self):
         transforms = []

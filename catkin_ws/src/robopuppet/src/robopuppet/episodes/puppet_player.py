@@ -4,7 +4,6 @@ robopuppet.episodes.puppet_playback what the puppet reports and sends its setpoi
 Used by robopuppet.episodes.replay_node (the terminal command replay), which reads the episode
 and builds the core.
 """
-import threading
 import time
 
 import rosgraph
@@ -16,16 +15,15 @@ from robopuppet import interface as ifc
 from robopuppet import settings
 from robopuppet.arm.readings import joint_angles
 from robopuppet.episodes import replay
-from robopuppet.periodic import Guard, Loop
+from robopuppet.episodes.player import Player
 from robopuppet_msgs.msg import ArmSettings
 
 RATE_HZ = 50.0        # setpoints per second and joint: the firmware's control rate
 WAIT_S = 5.0          # for the puppet's joint states and encoder statuses before refusing
 SETTINGS_WAIT_S = 1.0  # then this much longer for the latched stored settings
-STAY_S = 0.3          # after a stop the stay setpoints go on this long (over arm_X's button 1)
 
 
-class PuppetPlayer:
+class PuppetPlayer(Player):
     """Play one episode into the puppet arms of the core's paths; run() returns the exit code.
 
     Subscribes per played side X (<ns> = /puppet/arm_X): <ns>/joint_states,
@@ -37,9 +35,7 @@ class PuppetPlayer:
     """
 
     def __init__(self, core, say):
-        self.core, self._say, self._lock = core, say, threading.Lock()
-        self.done = threading.Event()
-        self._stopped_t = None
+        super().__init__(core, say)
         sub, sides = rospy.Subscriber, sorted(core.paths)
         self._setpoints = {s: [rospy.Publisher(ifc.joint_topic(s, j, 'setpoint'), Float32,
                                                queue_size=10, tcp_nodelay=True)
@@ -61,10 +57,6 @@ class PuppetPlayer:
         sub(ifc.REPLAY_STOP, Empty, lambda m: self._call(self.core.stop, 'stop requested'),
             queue_size=10)
 
-    def _call(self, method, *args):
-        with self._lock:
-            return method(time.monotonic(), *args)
-
     def _on_states(self, msg, side):
         try:
             self._call(self.core.on_puppet, side, joint_angles(msg.name, msg.position))
@@ -82,18 +74,6 @@ class PuppetPlayer:
                 publisher.publish(Float32(angle))
         for side, mode in step.opmodes.items():
             self._opmode[side].publish(String(mode))
-
-    def _tick(self):
-        with self._lock:
-            now = time.monotonic()
-            step = self.core.step(now)
-            self._send(step)
-        if step.phase == replay.STOPPED:
-            self._stopped_t = self._stopped_t or now
-            if now - self._stopped_t >= STAY_S:
-                self.done.set()
-        elif step.phase == replay.FINISHED:
-            self.done.set()
 
     def _wait(self, ready, timeout_s):
         deadline = time.monotonic() + timeout_s
@@ -127,14 +107,7 @@ class PuppetPlayer:
             return 2
         self._say('moving slowly to the start pose of puppet arm %s (limits from %s)' % (
             ', '.join(sorted(core.paths)), ', '.join(sorted(set(core.limit_source.values())))))
-        loop = Loop(Guard('replay', rospy.logerr), 'playback', 1.0 / RATE_HZ, self._tick).start()
-        shown = None
-        while not self.done.wait(0.2) and not rospy.is_shutdown():
-            played_s, total_s = core.progress()
-            if core.phase == replay.PLAY and int(played_s) != shown:
-                self._say('playing %.1f of %.1f s' % (played_s, total_s))
-                shown = int(played_s)
-        loop.stop()
+        self._play('playback', RATE_HZ, 0.2)
         outcome = '; '.join(core.outcome(side) for side in sorted(core.paths))
         if core.phase == replay.FINISHED:
             self._say('finished: %s' % outcome)

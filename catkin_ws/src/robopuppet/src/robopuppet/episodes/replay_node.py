@@ -11,7 +11,6 @@ stop rule; 2: refused or failed (a message says why).
 import argparse
 import json
 import sys
-import threading
 import time
 
 import rospy
@@ -25,16 +24,15 @@ from robopuppet.arm.baxter_upkeep import CMD_GO
 from robopuppet.arm.readings import arm_poses, joint_angles
 from robopuppet.episodes import (export, export_cli, export_files, puppet_playback,
                                  puppet_player, replay)
+from robopuppet.episodes.player import Player
 from robopuppet.episodes.recording import parse_sides
-from robopuppet.periodic import Guard, Loop
 from robopuppet_msgs.msg import TeleopState
 
 RATE_HZ = 100.0
 WAIT_S = 5.0        # for Baxter's state and pose before refusing
-STAY_S = 0.3        # after a stop, the stay command is repeated this long before exiting
 
 
-class ReplayNode:
+class ReplayNode(Player):
     """Replay one episode; run() returns the exit code.
 
     Subscribes: /robot/state, /robot/joint_states, Baxter's gripper states, and per watched
@@ -44,11 +42,9 @@ class ReplayNode:
     """
 
     def __init__(self, core, sides, say):
-        self.core, self._say, self._lock = core, say, threading.Lock()
+        super().__init__(core, say)
         self._enabled = self._following = None
         self._gripper_id, self._sequence = {}, 0
-        self.done = threading.Event()
-        self._stopped_t = None
         self._names = {s: baxter_description.arm_joint_names(s) for s in ifc.BAXTER_SIDES}
         self._arm = {s: rospy.Publisher(ifc.limb_topic(s, 'joint_command'), JointCommand,
                                         queue_size=10, tcp_nodelay=True) for s in core.paths}
@@ -67,10 +63,6 @@ class ReplayNode:
                 lambda m, side=side: self._on_puppet(side, m), tcp_nodelay=True)
             sub(ns + '/' + ifc.TELEOP_STATE, TeleopState, self._on_teleop)
         sub(ifc.REPLAY_STOP, Empty, lambda m: self._call(core.stop, 'stop requested'))
-
-    def _call(self, method, *args):
-        with self._lock:
-            return method(time.monotonic(), *args)
 
     def _on_robot_state(self, msg):
         self._enabled = msg.enabled and not msg.stopped and not msg.error
@@ -103,18 +95,6 @@ class ReplayNode:
                 args=json.dumps({'position': grip.position}), sender=rospy.get_name(),
                 sequence=self._sequence))
 
-    def _tick(self):
-        with self._lock:
-            now = time.monotonic()
-            step = self.core.step(now)
-            self._send(step)
-        if step.phase == replay.STOPPED:
-            self._stopped_t = self._stopped_t or now
-            if now - self._stopped_t >= STAY_S:
-                self.done.set()
-        elif step.phase == replay.FINISHED:
-            self.done.set()
-
     def run(self):
         """Check, approach, play; return the exit code (0 finished, 1 stopped, 2 refused)."""
         deadline = time.monotonic() + WAIT_S
@@ -133,14 +113,7 @@ class ReplayNode:
         with self._lock:
             self._send(self.core.start(time.monotonic()))
         self._say('moving slowly to the start pose of %s' % ', '.join(sorted(self.core.paths)))
-        loop = Loop(Guard('replay', rospy.logerr), 'replay', 1.0 / RATE_HZ, self._tick).start()
-        shown = None
-        while not self.done.wait(1.0) and not rospy.is_shutdown():
-            played_s, total_s = self.core.progress()
-            if (self.core.phase, int(played_s)) != shown and self.core.phase == replay.PLAY:
-                self._say('playing %.1f of %.1f s' % (played_s, total_s))
-                shown = (self.core.phase, int(played_s))
-        loop.stop()
+        self._play('replay', RATE_HZ, 1.0)
         if self.core.phase == replay.FINISHED:
             self._say('finished')
             return 0

@@ -1,0 +1,33 @@
+"""The two loops of a camera node (camera, sim_cameras), run until ROS shuts down: its frames at
+its rate and its /diagnostics at 1 Hz, both through one Guard (periodic), so that a failed frame
+or report is logged and the next one comes as usual."""
+import rospy
+
+from robopuppet.periodic import Guard, Loop
+
+DIAGNOSTICS_PERIOD_S = 1.0
+STOP_TIMEOUT_S = 2.0  # per loop, at shutdown
+
+
+def spin(what, rate_hz, tick, diagnose, release=None):
+    """Call tick() at rate_hz and diagnose() every DIAGNOSTICS_PERIOD_S until shutdown.
+
+    At shutdown both loops stop (each waited for up to STOP_TIMEOUT_S), then release() (if
+    given) frees what the frames came from.
+
+    Args:
+        what: the frame loop's name, for log lines and its thread.
+    """
+    guard = Guard(rospy.get_name(), rospy.logerr)
+    loops = [Loop(guard, what, 1.0 / rate_hz, tick),
+             Loop(guard, 'camera diagnostics', DIAGNOSTICS_PERIOD_S, diagnose)]
+
+    def stop():
+        for loop in loops:
+            loop.stop(STOP_TIMEOUT_S)
+        if release is not None:
+            release()
+    rospy.on_shutdown(stop)
+    for loop in loops:
+        loop.start()
+    rospy.spin()
