@@ -2,11 +2,11 @@
 # Screenshot the RoboPuppet GUI (gui_R) while the simulated system runs, on a virtual screen.
 #   tools/screenshot_gui.sh [OUT_DIR]
 # Starts its own roscore on a free port with main_sim.launch (Baxter stand-in without RViz, arm R
-# on the simulated puppet, its arm controller), then tools/screenshot_gui.py drives the real
-# GUI like an operator and saves OUT_DIR/gui_main.png and OUT_DIR/gui_joint1.png
-# (default OUT_DIR: ./screenshots). Stops everything it started. ROS_HOME is always a fresh
-# temporary directory (its live arm_R.ini and the logs stay there); the exit status is non-zero
-# when the scenario gives up.
+# on the simulated puppet, its arm controller, the simulated cameras), then
+# tools/screenshot_gui.py drives the real GUI like an operator and saves OUT_DIR/gui_main.png,
+# OUT_DIR/gui_joint1.png and OUT_DIR/gui_camera_reach.jpg (default OUT_DIR: ./screenshots).
+# Stops everything it started. ROS_HOME is always a fresh temporary directory (its live
+# arm_R.ini and the logs stay there); the exit status is non-zero when the scenario gives up.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 OUT_DIR="$(realpath -m "${1:-$ROOT/screenshots}")"

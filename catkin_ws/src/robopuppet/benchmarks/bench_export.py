@@ -3,33 +3,68 @@
 
 Builds a synthetic 1-minute episode at the real system's rates (Baxter's joint and gripper
 states at 100 Hz, the right arm's commands at 50 Hz, puppet R's joint states and four grippers
-at 10 Hz, diagnostics at 1 Hz), then times each stage of the export and prints the figures.
+at 10 Hz, diagnostics at 1 Hz, three cameras' 640x480 JPEG frames (quality 80) at 15 frames/s),
+then times each stage of the export and prints the figures, with the HDF5's MB per minute.
 
-    python3 benchmarks/bench_export.py [--minutes 1] [--repeat 3] [--keep DIR]
+    python3 benchmarks/bench_export.py [--minutes 1] [--repeat 3] [--keep DIR] [--rate HZ]
+        [--cameras 3] [--frames IMAGE] [--compression lzf|gzip|none]
 
+The frames are 640x480 windows of IMAGE (default docs/images/sim_cameras.jpg: the simulated
+room and hand cameras), shifted a few pixels from frame to frame; give a photograph to see what
+a webcam's frames cost. --compression overrides the images' HDF5 filter (gzip: h5py's default
+level, 4).
 --keep DIR leaves the episode and its outputs (.hdf5, .csv, .png) in DIR to look at.
 """
 import argparse
 import math
 import os
+import resource
 import shutil
 import tempfile
 import time
 
+import cv2
 import genpy
+import numpy as np
 import rosbag
 import yaml
 from baxter_core_msgs.msg import EndEffectorCommand, EndEffectorState, JointCommand
 from diagnostic_msgs.msg import DiagnosticArray
 from robopuppet_msgs.msg import TeleopState
-from sensor_msgs.msg import JointState
+from sensor_msgs.msg import CompressedImage, JointState
 from std_msgs.msg import Float32
 
 from robopuppet.baxter_description import arm_joint_names
-from robopuppet.episodes import export, export_files
+from robopuppet.cameras import jpeg
+from robopuppet.episodes import export, export_files, export_images
+from robopuppet.interface import BAXTER_CAMERAS, ROOM_CAMERA
 
 T0_NS = 1700000000 * 10**9
 NAME = 'episode_20240101-120000'
+CAMERAS = (ROOM_CAMERA,) + BAXTER_CAMERAS[1:] + BAXTER_CAMERAS[:1]  # the sim's three, then head
+FRAME_RATE_HZ, WIDTH, HEIGHT, QUALITY = 15, 640, 480, 80
+DEFAULT_FRAMES = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..', '..', '..',
+                              'docs', 'images', 'sim_cameras.jpg')
+COMPRESSION = {'lzf': 'lzf', 'gzip': 'gzip', 'none': None}  # --compression: h5py's filter
+
+
+def camera_frames(path, cameras):
+    """Return per camera FRAME_RATE_HZ JPEGs: 640x480 windows of the image at path (scaled up
+    if smaller), one window per camera, shifted 2 px further each frame."""
+    image = cv2.imread(path)
+    if image is None:
+        raise SystemExit('cannot read %s' % path)
+    scale = max(WIDTH / image.shape[1], HEIGHT / image.shape[0], 1.0)
+    if scale > 1.0:
+        image = cv2.resize(image, (int(np.ceil(image.shape[1] * scale)),
+                                   int(np.ceil(image.shape[0] * scale))))
+    frames = []
+    for c in range(cameras):
+        x = (image.shape[1] - WIDTH) * c // max(cameras - 1, 1)
+        window = image[:HEIGHT, x:x + WIDTH]
+        frames.append([jpeg.encode(np.roll(window, 2 * k, axis=1), QUALITY)
+                       for k in range(FRAME_RATE_HZ)])
+    return frames
 
 
 def puppet_angles(t):
@@ -37,8 +72,9 @@ def puppet_angles(t):
     return [0.6 * math.sin(2 * math.pi * t / (7.0 + 2 * j) + j) for j in range(7)]
 
 
-def write_episode(directory, minutes):
-    """Write NAME.bag and NAME.yaml into directory; return the bag path and message count."""
+def write_episode(directory, minutes, frames):
+    """Write NAME.bag and NAME.yaml into directory, frames[c] cycling on camera c at
+    FRAME_RATE_HZ; return the bag path and message count."""
     duration_s = 60.0 * minutes
     bag_path = os.path.join(directory, NAME + '.bag')
     left, right = arm_joint_names('left'), arm_joint_names('right')
@@ -83,9 +119,15 @@ def write_episode(directory, minutes):
             if tick % 100 == 0:
                 bag.write('/diagnostics', DiagnosticArray(), stamp)
                 count += 1
+            for k in range(tick * FRAME_RATE_HZ // 100, (tick + 1) * FRAME_RATE_HZ // 100):
+                for c, jpegs in enumerate(frames):  # 15 frames/s, the first at 0.06 s
+                    bag.write(export_images.frame_topic(CAMERAS[c]), CompressedImage(
+                        format=jpeg.JPEG_FORMAT, data=jpegs[k % len(jpegs)]), stamp)
+                    count += 1
     with open(os.path.join(directory, NAME + '.yaml'), 'w') as stream:
         yaml.safe_dump({'format_version': 1, 'name': NAME, 'sim': True, 'sides': ['R'],
-                        'duration_s': duration_s}, stream)
+                        'duration_s': duration_s, 'cameras': list(CAMERAS[:len(frames)])},
+                       stream)
     return bag_path, count
 
 
@@ -100,29 +142,46 @@ def main():
     parser.add_argument('--minutes', type=float, default=1.0)
     parser.add_argument('--repeat', type=int, default=3)
     parser.add_argument('--keep', metavar='DIR')
+    parser.add_argument('--rate', type=float, default=export.DEFAULT_RATE_HZ, metavar='HZ')
+    parser.add_argument('--cameras', type=int, default=3, choices=range(len(CAMERAS) + 1))
+    parser.add_argument('--frames', default=DEFAULT_FRAMES, metavar='IMAGE')
+    parser.add_argument('--compression', choices=sorted(COMPRESSION))
     args = parser.parse_args()
     directory = args.keep or tempfile.mkdtemp(prefix='bench_export_')
     os.makedirs(directory, exist_ok=True)
+    compression = (COMPRESSION[args.compression] if args.compression
+                   else export_files.IMAGE_COMPRESSION)
     try:
-        (bag_path, count), write_s = timed(write_episode, directory, args.minutes)
-        print('episode: %.1f min, %d messages, %.1f MB bag (written in %.1f s)' % (
-            args.minutes, count, os.path.getsize(bag_path) / 1e6, write_s))
+        frames = camera_frames(args.frames, args.cameras)
+        (bag_path, count), write_s = timed(write_episode, directory, args.minutes, frames)
+        print('episode: %.1f min, %d messages, %.1f MB bag (written in %.1f s); %d cameras at '
+              '%d frames/s, JPEG %.0f kB a frame' % (
+                  args.minutes, count, os.path.getsize(bag_path) / 1e6, write_s, args.cameras,
+                  FRAME_RATE_HZ, np.mean([len(j) for f in frames for j in f] or [0]) / 1e3))
         stages = {}
         base = os.path.join(directory, NAME)
         for _ in range(args.repeat):
             messages, t_read = timed(export_files.read_messages, bag_path,
                                      export.episode_topics())
             recording, t_collect = timed(export.collect, messages)
-            arrays, t_arrays = timed(export.aloha_arrays, recording, export.DEFAULT_RATE_HZ)
+            arrays, t_arrays = timed(export.aloha_arrays, recording, args.rate)
             _, t_hdf5 = timed(export_files.write_hdf5, base + '.hdf5', arrays, True,
-                              export.DEFAULT_RATE_HZ, NAME)
+                              args.rate, NAME)
+            _, t_frames = timed(lambda: sum(1 for _ in export_files.read_frames(bag_path)))
+            cpu_s = time.process_time()
+            _, t_images = timed(lambda: export_files.write_hdf5(
+                base + '.hdf5', arrays, True, args.rate, NAME,
+                export_files.read_frames(bag_path), compression=compression))
+            cpu_s = time.process_time() - cpu_s
             _, t_csv = timed(lambda: export_files.write_csv(base + '.csv',
                                                             export.csv_lines(arrays)))
             series, t_series = timed(export.plot_series, recording, arrays)
             _, t_plot = timed(export_files.write_plot, base + '.png', series, arrays['time'],
                               NAME + ' (sim, benchmark)')
             for name, value in (('read bag', t_read), ('collect', t_collect),
-                                ('resample (50 Hz)', t_arrays), ('write hdf5', t_hdf5),
+                                ('resample (%g Hz)' % args.rate, t_arrays),
+                                ('write hdf5', t_hdf5), ('(read frames)', t_frames),
+                                ('hdf5 + images', t_images), ('  (its CPU time)', cpu_s),
                                 ('csv rows + write', t_csv), ('plot series', t_series),
                                 ('plot png', t_plot)):
                 stages.setdefault(name, []).append(value)
@@ -130,12 +189,20 @@ def main():
         print('stage               best of %d (s per %.1f min)   s per minute of episode' % (
             args.repeat, args.minutes))
         for name, values in stages.items():
-            total += min(values)
+            if name not in ('write hdf5', '(read frames)', '  (its CPU time)'):  # within it
+                total += min(values)
             print('  %-18s %8.3f %28.3f' % (name, min(values), min(values) / args.minutes))
         print('  %-18s %8.3f %28.3f' % ('total', total, total / args.minutes))
-        print('T = %d steps; hdf5 %.2f MB, csv %.2f MB, png %.2f MB' % (
-            len(arrays['time']), os.path.getsize(base + '.hdf5') / 1e6,
-            os.path.getsize(base + '.csv') / 1e6, os.path.getsize(base + '.png') / 1e6))
+        hdf5_mb = os.path.getsize(base + '.hdf5') / 1e6
+        print('T = %d steps; hdf5 with images (%s) %.1f MB (%.1f MB per minute), csv %.2f MB, '
+              'png %.2f MB' % (len(arrays['time']), args.compression or
+                               export_files.IMAGE_COMPRESSION, hdf5_mb, hdf5_mb / args.minutes,
+                               os.path.getsize(base + '.csv') / 1e6,
+                               os.path.getsize(base + '.png') / 1e6))
+        print('peak resident memory of this process %.0f MB (decoded, the frames of one '
+              'minute would be %.0f MB)' % (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+                                            / 1e3, len(frames) * 60 * FRAME_RATE_HZ
+                                            * WIDTH * HEIGHT * 3 / 1e6))
     finally:
         if not args.keep:
             shutil.rmtree(directory, ignore_errors=True)

@@ -2,8 +2,9 @@
 
 Not run by itself: bench_teleop.py starts the roscore, the Baxter stand-in and side R's host
 stack at comm_rate 100, then calls run(). Modes (MODES): no recorder; the real recorder running
-idle, started as recorder.launch starts it (record_sides:=R, record_sim:=true); and recording,
-an episode of the whole traffic started and stopped through /puppet/record. The samples of a
+idle, started as recorder.launch starts it (record_sides:=R, record_sim:=true), subscribed to
+user_btn only; and recording, an episode of the whole traffic started and stopped through
+/puppet/record (the recorder subscribes to the other topics at its start). The samples of a
 mode are spread over rounds of interleaved blocks (order reversed every other round), so that a
 change of the machine's load from other processes falls on every mode alike.
 """
@@ -72,7 +73,7 @@ def run(stack, samples, rounds, work, log, baxter):
                     others['recorder'] = recorder.process
                 if mode == ON:
                     episodes.append(recorder.record(True))
-                    time.sleep(1.0)
+                    time.sleep(1.0)  # the episode's subscriptions connect within ~0.3 s
                 block = stack.measure(per_block, others)
                 if mode == ON:
                     recorder.record(False)

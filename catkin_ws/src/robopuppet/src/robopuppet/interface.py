@@ -94,6 +94,9 @@ def camera_topic(camera, name):
 # all of them, Baxter's on its hand-camera frames of the URDF.
 BAXTER_CAMERAS = ('head_camera', 'left_hand_camera', 'right_hand_camera')
 ROOM_CAMERA = 'room_camera'
+# The cameras the simulated system renders (sim_cameras' ~cameras default; a real Baxter streams
+# at most two of its three) and so those an episode records by default (the recorder's ~cameras).
+SIM_CAMERAS = (ROOM_CAMERA, 'left_hand_camera', 'right_hand_camera')
 
 
 def baxter_gripper_topic(side, name):

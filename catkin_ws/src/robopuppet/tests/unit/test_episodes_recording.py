@@ -35,6 +35,31 @@ def test_an_episode_of_the_right_arm_holds_its_topics_and_baxters_not_the_left_a
     assert len(both) == len(topics) + len(recording.SIDE_TOPICS)
 
 
+def test_cameras_add_their_compressed_images_and_only_the_buttons_stay_subscribed():
+    cameras = ('room_camera', 'right_hand_camera')
+    topics = recording.recorded_topics(('L', 'R'), cameras)
+    assert topics[-2:] == ('/cameras/room_camera/image/compressed',
+                           '/cameras/right_hand_camera/image/compressed')
+    assert topics[:-2] == recording.recorded_topics(('L', 'R'))
+    buttons = recording.button_topics(('L', 'R'))
+    assert buttons == ('/puppet/arm_L/user_btn', '/puppet/arm_R/user_btn')
+    assert sorted(recording.episode_topics(('L', 'R'), cameras) + buttons) == sorted(topics)
+
+
+@pytest.mark.parametrize('value, cameras', [
+    (['room_camera', 'right_hand_camera'], ('room_camera', 'right_hand_camera')),
+    ('room_camera, left_hand_camera', ('room_camera', 'left_hand_camera')),
+    ('', ()), ([], ()), (['a', 'a'], ('a',))])
+def test_cameras_parse_from_a_list_or_a_string(value, cameras):
+    assert recording.parse_cameras(value) == cameras
+
+
+@pytest.mark.parametrize('value', [3, None, ['/cameras/room_camera'], ['room camera'], [1], ['']])
+def test_bad_cameras_are_refused(value):
+    with pytest.raises(ValueError):
+        recording.parse_cameras(value)
+
+
 def test_a_press_acts_once_and_a_held_button_does_not_repeat():
     edge = recording.ButtonEdge()
     readings = [0, 4, 4, 4, 0, 0, 4, 3, 4, 4, 0]
@@ -64,22 +89,23 @@ def test_any_file_of_a_name_takes_it(tmp_path, ext):
 
 
 def test_metadata_holds_every_agreed_key_with_its_type():
-    meta = recording.metadata('episode_1', 1706711101.25, 42.5, 3.0, ('R',), 10.0,
-                              {'R': 'ab' * 32, 'L': 'ignored'}, 'pick the cup', True, True,
+    meta = recording.metadata('episode_1', 1706711101.25, 42.5, 3.0, ('R',), ('room_camera',),
+                              10.0, {'R': 'ab' * 32, 'L': 'ignored'}, 'pick the cup', True, True,
                               {'/b': 2, '/a': 1})
     assert list(meta) == ['format_version', 'name', 'start_time', 'start_stamp', 'duration_s',
-                          'sides', 'comm_rate_hz', 'ini_fingerprints', 'notes',
+                          'sides', 'cameras', 'comm_rate_hz', 'ini_fingerprints', 'notes',
                           'ended_cleanly', 'sim', 'topics']
     assert meta['format_version'] == 1
     assert meta['start_time'] == '2024-01-31T14:25:01.250Z'
     assert meta['start_stamp'] == 42.5 and meta['duration_s'] == 3.0
+    assert meta['cameras'] == ['room_camera']
     assert meta['sides'] == ['R'] and meta['ini_fingerprints'] == {'R': 'ab' * 32}
     assert meta['topics'] == {'/a': 1, '/b': 2} and meta['notes'] == 'pick the cup'
     assert meta['ended_cleanly'] is True and meta['sim'] is True
 
 
 def test_metadata_keeps_unknowns_as_null():
-    meta = recording.metadata('e', 0.0, 0.0, 0.0, ('L', 'R'), None, {}, '', False, False, {})
+    meta = recording.metadata('e', 0.0, 0.0, 0.0, ('L', 'R'), (), None, {}, '', False, False, {})
     assert meta['comm_rate_hz'] is None and meta['ini_fingerprints'] == {'L': None, 'R': None}
     assert meta['start_time'] == '1970-01-01T00:00:00.000Z'
 

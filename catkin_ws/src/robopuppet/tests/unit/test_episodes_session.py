@@ -46,7 +46,7 @@ def start(recorder, notes='', stamp_s=100.0):
 
 
 def test_an_episode_is_a_bag_with_every_message_and_metadata_after_a_clean_stop(tmp_path):
-    recorder = Recorder(str(tmp_path / 'new'), ('R',), 200.0, files())
+    recorder = Recorder(str(tmp_path / 'new'), ('R',), ('room_camera',), 200.0, files())
     ok, error, episode = start(recorder, 'first notes')
     active = episode + '.active'  # written as .bag.active, named by its final .bag
     assert ok and error == '' and episode.endswith('.bag') and os.path.exists(active)
@@ -67,27 +67,29 @@ def test_an_episode_is_a_bag_with_every_message_and_metadata_after_a_clean_stop(
     meta = yaml.safe_load(open(meta_path))
     assert meta['ended_cleanly'] is True and meta['duration_s'] == 2.0
     assert meta['notes'] == 'better notes' and meta['sides'] == ['R'] and meta['sim'] is True
+    assert meta['cameras'] == ['room_camera']
     assert meta['topics'] == {'/puppet/arm_R/gripper_0': 50, '/puppet/arm_R/user_btn': 1}
     assert recorder.status(200.0) == recording.Status(False, bag_path, 2.0,
                                                       os.path.getsize(bag_path), 51, '')
 
 
-def test_each_episode_starts_with_the_newest_message_of_each_latched_topic(tmp_path):
-    recorder = Recorder(str(tmp_path), ('R',), 200.0, files())
-    for k in range(3):
-        recorder.write('/latched', raw(Float32(k), 'x'), 90.0 + k, latched=True)
-        recorder.write('/plain', raw(Float32(k), 'x'), 90.0 + k)
+def test_an_episode_holds_only_what_came_while_it_ran(tmp_path):
+    recorder = Recorder(str(tmp_path), ('R',), (), 200.0, files())
+    recorder.write('/a', raw(Float32(-1), 'x'), 99.0)  # idle: dropped, not kept for later
+    bags = []
     for episode in range(2):
-        bag_path = start(recorder, stamp_s=100.0 + episode)[2]
-        recorder.write('/plain', raw(Float32(7), 'x'), 100.5 + episode)
-        recorder.stop('', 101.0 + episode)
+        bags.append(start(recorder, stamp_s=100.0 + 10 * episode)[2])
+        recorder.write('/a', raw(Float32(episode), 'x'), 100.5 + 10 * episode)
+        recorder.stop('', 101.0 + 10 * episode)
+        recorder.write('/a', raw(Float32(-2), 'x'), 101.5 + 10 * episode)
+    for episode, bag_path in enumerate(bags):
         with rosbag.Bag(bag_path) as bag:
             got = [(t, m.data, s.to_sec()) for t, m, s in bag.read_messages()]
-        assert got == [('/latched', 2.0, 100.0 + episode), ('/plain', 7.0, 100.5 + episode)]
+        assert got == [('/a', float(episode), 100.5 + 10 * episode)]
 
 
 def test_one_episode_at_a_time_and_names_never_collide(tmp_path):
-    recorder = Recorder(str(tmp_path), ('R',), 200.0, files())
+    recorder = Recorder(str(tmp_path), ('R',), (), 200.0, files())
     first = start(recorder)[2]
     assert start(recorder) == (False, 'already recording %s' % first, first)
     assert recorder.stop('', 101.0)[0]
@@ -99,7 +101,7 @@ def test_one_episode_at_a_time_and_names_never_collide(tmp_path):
 
 def test_a_nearly_full_disk_refuses_to_start_and_stops_a_running_episode(tmp_path):
     low = files(free=150e6)
-    recorder = Recorder(str(tmp_path), ('R',), 200.0, low)
+    recorder = Recorder(str(tmp_path), ('R',), (), 200.0, low)
     ok, error, _ = start(recorder)
     assert not ok and 'disk nearly full' in error and os.listdir(str(tmp_path)) == []
     assert recorder.status(100.0).problem == error
@@ -116,16 +118,16 @@ def test_a_nearly_full_disk_refuses_to_start_and_stops_a_running_episode(tmp_pat
 
 
 def test_an_unwritable_directory_is_a_clear_refusal(tmp_path):
-    recorder = Recorder(str(tmp_path / 'a_file' / 'below'), ('R',), 200.0, files())
+    recorder = Recorder(str(tmp_path / 'a_file' / 'below'), ('R',), (), 200.0, files())
     (tmp_path / 'a_file').write_text('')
     ok, error, episode = start(recorder)
     assert not ok and episode == '' and 'cannot use' in error and 'a_file' in error
-    broken = Recorder(str(tmp_path), ('R',), 200.0, files(free=PermissionError(13, 'denied')))
+    broken = Recorder(str(tmp_path), ('R',), (), 200.0, files(free=PermissionError(13, 'denied')))
     assert 'denied' in start(broken)[1]
 
 
 def test_a_failing_write_stops_the_episode_and_says_why(tmp_path):
-    recorder = Recorder(str(tmp_path), ('R',), 200.0, files())
+    recorder = Recorder(str(tmp_path), ('R',), (), 200.0, files())
     start(recorder)
 
     class Full:

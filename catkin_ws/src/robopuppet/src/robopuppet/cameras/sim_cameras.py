@@ -17,7 +17,7 @@ DEFAULTS = {
     'width': 640,        # pixels of every camera's image
     'height': 480,
     'quality': 80,       # JPEG quality 1..100 of image/compressed
-    'cameras': [interface.ROOM_CAMERA, 'left_hand_camera', 'right_hand_camera'],
+    'cameras': list(interface.SIM_CAMERAS),
     'world_file': '',    # '' means the package's config/world.yaml
     'obstacles_file': '',  # '' means config/obstacles.yaml, drawn if it exists (issue 12)
     'zones_file': '',    # '' means config/zones.yaml, drawn translucent red if it exists

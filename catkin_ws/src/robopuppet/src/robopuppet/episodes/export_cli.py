@@ -1,20 +1,23 @@
 """The terminal command export: recorded episodes to ALOHA's HDF5, Rethink's CSV and a plot.
 
     rosrun robopuppet export EPISODE... [--format aloha-hdf5|csv|all]... [--rate HZ]
-                                        [--out DIR] [--plot]
+                                        [--out DIR] [--plot] [--cameras NAME,... | --no-images]
 
 An EPISODE is a name (looked up in $ROS_HOME/robopuppet/episodes/, ROS_HOME defaulting to
 ~/.ros) or the path of its .bag or .yaml. Each episode exports on its own: a bad one gets an
-error line and the others still export; the exit code is 1 if any failed.
+error line and the others still export; the exit code is 1 if any failed. The HDF5 gets the
+images of every camera with frames in the bag, of the --cameras named (each must have frames),
+or none (--no-images).
 """
 import argparse
 import os
 import sys
 import time
 
-from robopuppet.episodes import export, export_files
+from robopuppet.episodes import export, export_files, export_images
 
 FORMATS = {'aloha-hdf5': '.hdf5', 'csv': '.csv'}
+PROGRESS_PERIOD_S = 10.0  # between the progress lines of a long image export
 
 
 def resolve(episode):
@@ -36,8 +39,37 @@ def _write(path, writer, *args):
             os.remove(partial)
 
 
-def export_episode(episode, formats, rate_hz, out_dir, plot, say):
-    """Export one episode; return the paths written. say(text) reports progress.
+def _cameras(bag_path, name, metadata, cameras, say):
+    """Return the cameras to export: those named (each must have frames; [] for none) or, for
+    None, all in the bag (read_frames finds them); say which listed ones have no frames."""
+    listed = cameras if cameras is not None else metadata.get('cameras')
+    listed = [c for c in listed if isinstance(c, str)] if isinstance(listed, list) else []
+    counts = export_files.frame_counts(bag_path, listed)
+    missing = [camera for camera in listed if not counts[camera]]
+    if cameras is not None and missing:
+        raise export.ExportError('no frames of %s in the bag (topics %s)' % (
+            ', '.join(missing), ', '.join(map(export_images.frame_topic, missing))))
+    if missing:
+        say('%s: the metadata lists %s, but the bag has no frames of them' % (
+            name, ', '.join(missing)))
+    return cameras
+
+
+def _progress(name, say, started):
+    """Return a progress(fraction) that says how far the images are every PROGRESS_PERIOD_S."""
+    last = [started]
+
+    def progress(fraction):
+        now = time.monotonic()
+        if now - last[0] >= PROGRESS_PERIOD_S:
+            last[0] = now
+            say('%s: images %.0f %% (%.0f s)' % (name, 100.0 * fraction, now - started))
+    return progress
+
+
+def export_episode(episode, formats, rate_hz, out_dir, plot, say, cameras=None):
+    """Export one episode; return the paths written. say(text) reports progress. cameras: the
+    cameras whose images the HDF5 gets (None: all in the bag, []: none).
 
     Raises:
         export_files.EpisodeError, export.ExportError: the episode cannot be exported.
@@ -57,8 +89,14 @@ def export_episode(episode, formats, rate_hz, out_dir, plot, say):
     written = []
     if 'aloha-hdf5' in formats:
         written.append(os.path.join(out_dir, name + FORMATS['aloha-hdf5']))
-        _write(written[-1], export_files.write_hdf5, arrays, bool(metadata.get('sim')), rate_hz,
-               name)
+        cameras = _cameras(bag_path, name, metadata, cameras, say)
+        frames = export_files.read_frames(bag_path, cameras) if cameras != [] else ()
+        notes = []
+        _write(written[-1], lambda path: notes.extend(export_files.write_hdf5(
+            path, arrays, bool(metadata.get('sim')), rate_hz, name, frames,
+            _progress(name, say, time.monotonic()))))
+        for note in notes:
+            say('%s: %s' % (name, note))
     if 'csv' in formats:
         written.append(os.path.join(out_dir, name + FORMATS['csv']))
         _write(written[-1], export_files.write_csv, export.csv_lines(arrays))
@@ -91,12 +129,28 @@ def parse_args(argv):
                         help='output directory (default: beside each episode)')
     parser.add_argument('--plot', action='store_true',
                         help='also write <name>.png: puppet, commanded, measured, error, gripper')
+    images = parser.add_mutually_exclusive_group()
+    images.add_argument('--cameras', metavar='NAME,...', type=_names,
+                        help='the HDF5 gets the images of these cameras only, e.g. '
+                             'room_camera,right_hand_camera (default: every camera in the bag)')
+    images.add_argument('--no-images', dest='cameras', action='store_const', const=[],
+                        help='the HDF5 gets no images')
     args = parser.parse_args(argv)
     if not (args.rate > 0 and args.rate < float('inf')):
         parser.error('--rate must be a positive number of Hz')
     chosen = set(args.formats or ([] if args.plot else ['aloha-hdf5']))
     args.formats = set(FORMATS) if 'all' in chosen else chosen
+    if args.cameras is not None and 'aloha-hdf5' not in args.formats:
+        parser.error('--cameras and --no-images apply to --format aloha-hdf5')
     return args
+
+
+def _names(text):
+    """Return the names of a comma-separated list (argparse type)."""
+    names = [name.strip() for name in text.split(',') if name.strip()]
+    if not names:
+        raise argparse.ArgumentTypeError('give one or more camera names')
+    return names
 
 
 def main(argv=None):
@@ -108,7 +162,7 @@ def main(argv=None):
     for episode in args.episodes:
         try:
             export_episode(episode, args.formats, args.rate, args.out, args.plot,
-                           lambda text: print('export: ' + text, flush=True))
+                           lambda text: print('export: ' + text, flush=True), args.cameras)
         except (export_files.EpisodeError, export.ExportError, OSError) as error:
             failed += 1
             print('export: %s: error: %s' % (episode, error), file=sys.stderr, flush=True)

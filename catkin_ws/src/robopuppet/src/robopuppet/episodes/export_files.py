@@ -1,5 +1,6 @@
 """The exporter's files: read an episode (bag and yaml), write ALOHA's HDF5, Rethink's CSV and
-the episode's plot (PNG). The arrays come from robopuppet.episodes.export.
+the episode's plot (PNG). The arrays come from robopuppet.episodes.export, the camera images
+from robopuppet.episodes.export_images.
 
 Reads the bag with rosbag (a file library: no ROS master needed), writes with h5py and
 matplotlib (Agg backend, no display needed). Those two are imported where they write, so that
@@ -12,10 +13,15 @@ import rosbag
 import rospkg
 import yaml
 
-from robopuppet.episodes import recording
+from robopuppet.episodes import export_images, recording
 from robopuppet.episodes.export import COLUMNS
+from robopuppet.interface import ROBOT_JOINT_STATES
 
 ACTIVE_SUFFIX = '.active'
+# The images' HDF5 filter. lzf (h5py's own): 15 s of CPU per minute of three simulated cameras
+# at 50 Hz, 40 s for photographs; gzip (level 4): 37 and 116 s for 22 and 13 % fewer bytes
+# (benchmarks/bench_export.py --compression, docs/demonstrations.md). h5py reads both.
+IMAGE_COMPRESSION = 'lzf'
 JOINT_LABELS = ('s0', 's1', 'e0', 'e1', 'w0', 'w1', 'w2')
 
 
@@ -74,10 +80,54 @@ def read_messages(bag_path, topics):
     return [(topic, msg, (t - messages[0][2]).to_sec()) for topic, msg, t in messages]
 
 
-def write_hdf5(path, arrays, sim, rate_hz, name):
+def frame_counts(bag_path, cameras):
+    """Return {camera: the number of its frames in the bag} (from the bag's index)."""
+    try:
+        with rosbag.Bag(bag_path) as bag:
+            return {camera: bag.get_message_count(export_images.frame_topic(camera))
+                    for camera in cameras}
+    except (rosbag.ROSBagException, OSError) as error:
+        raise EpisodeError('%s: cannot read the bag: %s' % (bag_path, error)) from error
+
+
+def read_frames(bag_path, cameras=None):
+    """Yield (camera, t, JPEG bytes) of the bag's camera frames (export_images.frame_topic) in
+    time order, one at a time, t the record time in s since the first /robot/joint_states
+    (the export grid's time 0). cameras: the cameras to read, None for all in the bag."""
+    def wanted(topic, datatype, *_):
+        camera = export_images.camera_of(topic)
+        return (datatype == 'sensor_msgs/CompressedImage' and camera is not None
+                and (cameras is None or camera in cameras))
+    try:
+        with rosbag.Bag(bag_path) as bag:
+            start = next(bag.read_messages(topics=[ROBOT_JOINT_STATES]), (None, None, None))[2]
+            if start is None:
+                return
+            for topic, msg, t in bag.read_messages(connection_filter=wanted):
+                yield export_images.camera_of(topic), (t - start).to_sec(), msg.data
+    except (rosbag.ROSBagException, OSError) as error:
+        raise EpisodeError('%s: cannot read the bag: %s' % (bag_path, error)) from error
+
+
+def write_hdf5(path, arrays, sim, rate_hz, name, frames=(), progress=None,
+               compression=IMAGE_COMPRESSION):
     """Write ALOHA's layout: attrs sim, /observations/qpos, qvel, effort and /action (T, 16)
-    float32 in COLUMNS order; also attrs columns (the column names), rate_hz and episode."""
+    float32 in COLUMNS order; also attrs columns (the column names), rate_hz and episode.
+
+    The group /observations/images holds, per camera of frames ((camera, t, JPEG bytes) in
+    time order, as read_frames yields them), a dataset <camera> (T, H, W, 3) uint8 RGB with
+    chunks of one image, like ALOHA's, compressed by the filter compression (h5py undoes it
+    when reading). Each frame is decoded and compressed once; the steps that repeat it get a
+    copy of its stored chunk. progress(fraction 0..1) is called after each run of steps.
+
+    Returns:
+        lines worth reporting about the images (export_images.ImageResampler.report).
+    Raises:
+        export.ExportError: a camera has no frame that decodes.
+    """
     import h5py  # pylint: disable=import-outside-toplevel  (see the module docstring)
+    resampler = export_images.ImageResampler(arrays['time'])
+    steps = len(arrays['time'])
     with h5py.File(path, 'w') as root:
         root.attrs['sim'] = bool(sim)
         root.attrs['columns'] = np.array(COLUMNS, dtype=h5py.string_dtype())
@@ -87,6 +137,33 @@ def write_hdf5(path, arrays, sim, rate_hz, name):
         for dataset in ('qpos', 'qvel', 'effort'):
             observations.create_dataset(dataset, data=arrays[dataset].astype(np.float32))
         root.create_dataset('action', data=arrays['action'].astype(np.float32))
+        images, datasets = observations.create_group('images'), {}
+        for run in _runs(resampler, frames):
+            if run.camera not in datasets:
+                datasets[run.camera] = images.create_dataset(
+                    run.camera, (steps,) + run.image.shape, dtype=np.uint8,
+                    chunks=(1,) + run.image.shape, compression=compression)
+            _write_run(datasets[run.camera], run)
+            if progress:
+                progress(run.stop / steps)
+    return resampler.report()
+
+
+def _runs(resampler, frames):
+    """Yield the resampler's runs of the frames, then its last ones."""
+    for camera, t_s, data in frames:
+        yield from resampler.add(camera, t_s, data)
+    yield from resampler.finish()
+
+
+def _write_run(dataset, run):
+    """Write a run's image to its steps run.start..run.stop-1 of the camera's dataset:
+    compressed once, then its stored chunk copied."""
+    dataset[run.start] = run.image
+    if run.stop - run.start > 1:
+        mask, chunk = dataset.id.read_direct_chunk((run.start, 0, 0, 0))
+        for step in range(run.start + 1, run.stop):
+            dataset.id.write_direct_chunk((step, 0, 0, 0), chunk, mask)
 
 
 def write_csv(path, lines):

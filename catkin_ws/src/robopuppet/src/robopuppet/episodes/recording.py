@@ -5,6 +5,7 @@ docs/demonstrations.md ("The episode format"), shared with the exporter.
 """
 import collections
 import os
+import re
 import time
 
 from robopuppet import interface
@@ -16,6 +17,8 @@ RECORDING_TOPIC = '/puppet/recording'     # robopuppet_msgs/RecordingState, latc
 DEFAULT_MIN_FREE_MB = 200.0       # below this free space an episode neither starts nor goes on
 NAME_PREFIX = 'episode_'
 BAG, ACTIVE, META = '.bag', '.bag.active', '.yaml'
+CAMERA_IMAGE = 'image/compressed'  # what an episode holds of each recorded camera (JPEG)
+CAMERA_NAME = re.compile(r'[A-Za-z][A-Za-z0-9_]*\Z')  # a ROS name segment, e.g. room_camera
 # A side's own topics (relative to interface.puppet_ns(side)).
 SIDE_TOPICS = (interface.JOINT_STATES,) + tuple(
     'gripper_%d' % g for g in range(interface.NUM_GRIPPERS)) + (
@@ -34,7 +37,6 @@ duration_s (s recorded), size_bytes, messages (written so far), problem ('' or w
 IDLE = Status(False, '', 0.0, 0, 0, '')
 
 
-
 def episodes_dir(ros_home):
     """Return the default episodes directory under a ROS home: <ros_home>/robopuppet/episodes."""
     return os.path.join(ros_home, 'robopuppet', 'episodes')
@@ -51,10 +53,41 @@ def parse_sides(text):
     return tuple(s for s in interface.PUPPET_SIDES if s in letters)
 
 
-def recorded_topics(sides):
-    """Return every topic an episode of these puppet sides holds: theirs, then Baxter's."""
-    return tuple('%s/%s' % (interface.puppet_ns(side), name)
-                 for side in sides for name in SIDE_TOPICS) + BAXTER_TOPICS
+def parse_cameras(value):
+    """Return the camera names of ~cameras: a list of names, or one string of names separated by
+    commas or spaces ('' and [] name none); a repeated name counts once.
+
+    Raises:
+        ValueError: not a list of strings, or a string that is not a camera name.
+    """
+    if isinstance(value, str):
+        value = value.replace(',', ' ').split()
+    if not isinstance(value, (list, tuple)):
+        raise ValueError('cameras must be a list of camera names, got %r' % (value,))
+    for name in value:
+        if not isinstance(name, str) or not CAMERA_NAME.match(name):
+            raise ValueError('cameras must be camera names like %s, got %r' % (
+                interface.ROOM_CAMERA, name))
+    return tuple(collections.OrderedDict.fromkeys(value))
+
+
+def button_topics(sides):
+    """Return the user_btn topics of these puppet sides (button 4 starts and stops episodes)."""
+    return tuple('%s/%s' % (interface.puppet_ns(side), interface.USER_BUTTON) for side in sides)
+
+
+def recorded_topics(sides, cameras=()):
+    """Return every topic an episode of these puppet sides and cameras holds: the sides', then
+    Baxter's, then each camera's interface.camera_topic(camera, CAMERA_IMAGE)."""
+    return (tuple('%s/%s' % (interface.puppet_ns(side), name)
+                  for side in sides for name in SIDE_TOPICS) + BAXTER_TOPICS
+            + tuple(interface.camera_topic(camera, CAMERA_IMAGE) for camera in cameras))
+
+
+def episode_topics(sides, cameras=()):
+    """Return the recorded topics subscribed only while an episode runs: all but the buttons."""
+    buttons = set(button_topics(sides))
+    return tuple(t for t in recorded_topics(sides, cameras) if t not in buttons)
 
 
 class ButtonEdge:
@@ -104,7 +137,7 @@ def disk_problem(free_bytes, min_free_mb):
     return ''
 
 
-def metadata(name, start_wall_s, start_stamp_s, duration_s, sides, comm_rate_hz,
+def metadata(name, start_wall_s, start_stamp_s, duration_s, sides, cameras, comm_rate_hz,
              ini_fingerprints, notes, ended_cleanly, sim, topics):
     """Return an episode's metadata as the dict written to <name>.yaml.
 
@@ -113,6 +146,7 @@ def metadata(name, start_wall_s, start_stamp_s, duration_s, sides, comm_rate_hz,
         start_stamp_s: the start in ROS time (s).
         duration_s: s recorded (0 at start).
         sides: the puppet sides recorded.
+        cameras: the cameras recorded (their CAMERA_IMAGE topics are in the bag).
         comm_rate_hz: the puppet's state-set rate, or None when unknown.
         ini_fingerprints: {side: sha256 hex of the live ini file, or None}.
         sim: recorded against the simulated system.
@@ -126,6 +160,7 @@ def metadata(name, start_wall_s, start_stamp_s, duration_s, sides, comm_rate_hz,
         'start_stamp': float(start_stamp_s),
         'duration_s': float(duration_s),
         'sides': list(sides),
+        'cameras': list(cameras),
         'comm_rate_hz': None if comm_rate_hz is None else float(comm_rate_hz),
         'ini_fingerprints': {side: ini_fingerprints.get(side) for side in sides},
         'notes': notes,

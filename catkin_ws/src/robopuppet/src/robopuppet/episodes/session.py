@@ -18,22 +18,23 @@ class Recorder:
     Args:
         directory: where episodes go (created when missing).
         sides: the puppet sides recorded (recording.parse_sides).
+        cameras: the cameras recorded (recording.parse_cameras), for the metadata.
         min_free_mb: free space (MB) below which an episode neither starts nor goes on.
         files: BagWriter(directory, name) (write(topic, msg, stamp_s) -> bytes, flush(),
             size_bytes(), close(), abandon(), .path), write_metadata(path, dict) and
             free_bytes(directory), as in episode_files; each may raise OSError.
     """
 
-    def __init__(self, directory, sides, min_free_mb, files):
+    def __init__(self, directory, sides, cameras, min_free_mb, files):
         self.directory = directory
         self.sides = tuple(sides)
+        self.cameras = tuple(cameras)
         self.min_free_mb = min_free_mb
         self._files = files
         self._writer = None
         self._episode = None
         self._meta = None
         self._last = recording.IDLE
-        self._latched = {}  # topic -> the newest message of a latched topic
 
     def recording(self):
         """Return True while an episode is open."""
@@ -59,8 +60,8 @@ class Recorder:
             return self._refuse(problem)
         name = recording.episode_name(time.localtime(wall_s),
                                       lambda n: recording.files_taken(self.directory, n))
-        meta = recording.metadata(name, wall_s, stamp_s, 0.0, self.sides, comm_rate_hz,
-                                  ini_fingerprints, notes, False, sim, {})
+        meta = recording.metadata(name, wall_s, stamp_s, 0.0, self.sides, self.cameras,
+                                  comm_rate_hz, ini_fingerprints, notes, False, sim, {})
         try:
             writer = self._files.BagWriter(self.directory, name)
         except OSError as error:
@@ -72,21 +73,14 @@ class Recorder:
             return self._refuse('cannot write the metadata of %s: %s' % (name, error))
         self._writer, self._meta = writer, meta
         self._episode = recording.Episode(name, stamp_s, notes)
-        for topic, msg in sorted(self._latched.items()):
-            if self.write(topic, msg, stamp_s):
-                return False, self._last.problem, writer.path
         return True, '', writer.path
 
-    def write(self, topic, msg, stamp_s, latched=False):
+    def write(self, topic, msg, stamp_s):
         """Write a message received on topic at ROS time stamp_s (s), when recording.
 
-        The newest message of a latched topic is kept: an episode starts with it (stamped with
-        its start), as a subscriber that joins then would receive it.
         Returns:
             True when the write failed and so stopped the episode.
         """
-        if latched:
-            self._latched[topic] = msg
         if self._writer is None:
             return False
         try:
