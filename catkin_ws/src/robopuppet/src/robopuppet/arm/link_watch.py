@@ -5,8 +5,11 @@ seconds are arguments, the clock itself is robopuppet.arm.link_clock.
 A puppet sample (joint_states, stamped by serial_X on the operator clock) is used only when its
 age is known (the operator clock is trusted), it is not stamped in the future, it is newer than
 every sample used before (out of order: refused), and it is at most the bound old on arrival
-(robopuppet.arm.timing.sample_age_bound). Refusals are counted by kind; one too old or of
-unknown age (STALE_KINDS) makes the stream stale: teleop takes it as a silent puppet.
+(robopuppet.arm.timing.sample_age_bound). Refusals are counted by kind. One of unknown age
+(STALE_KINDS) makes the stream stale at once: teleop takes it as a silent puppet. One too old
+(LATE) is dropped: never used, counted and reported (a warning for LOSS_WINDOW_S); the stream is
+stale only when no usable sample comes for the state timeout, and teleop then names the newest
+late sample's age (robopuppet.arm.timing says why).
 
 The report's fault names the most severe problem, ties going upstream first (network, then
 operator, then robot); its detail lists them all; level OK goes with fault none only. All the
@@ -31,7 +34,8 @@ ECHO_SILENCE_ERROR_S = ECHO_TIMEOUT_S   # no echo for this long: pings go unansw
 # go unanswered) or the operator host's (what it stamps).
 REFUSAL_FAULT = {'old': NETWORK, 'clock': NETWORK, 'stamp': OPERATOR, 'future': OPERATOR,
                  'order': OPERATOR}
-STALE_KINDS = ('old', 'clock')      # refusals that make the stream stale
+STALE_KINDS = ('clock',)            # refusals that make the stream stale at once
+LATE = 'old'                        # the refusal of a sample older than the bound: dropped
 REPORT_PERIOD_S = 0.2               # LinkState goes out at 5 Hz
 
 LinkReport = collections.namedtuple('LinkReport', 'rtt_s clock_offset_s clock_known sample_age_s '
@@ -65,6 +69,7 @@ class LinkWatch:
         self._used_stamp_s = None   # operator stamp of the newest used sample
         self._used_s = None         # when (robot clock) the newest used sample arrived
         self._refusal = None        # (kind, why) of the newest refusal since the newest use
+        self._late = collections.deque()   # (arrival s, age s) of the late samples dropped
         self._steps_seen = 0
         self._report_s = None
 
@@ -85,10 +90,19 @@ class LinkWatch:
                               % (age_s, self.bound.bound_s))
         except Refused as refusal:
             self.refused[refusal.kind] += 1
+            if refusal.kind == LATE:
+                self.late_dropped(now_s)   # keeps the window's only
+                self._late.append((now_s, age_s))
             self._refusal = (refusal.kind, str(refusal))
             raise
         self._used_stamp_s, self._used_s, self._refusal = stamp_s, now_s, None
         return age_s
+
+    def late_dropped(self, now_s):
+        """Return [(arrival s, age s)] of the late samples dropped in the last LOSS_WINDOW_S."""
+        while self._late and self._late[0][0] < now_s - LOSS_WINDOW_S:
+            self._late.popleft()
+        return list(self._late)
 
     def since_usable_s(self, now_s):
         """Return how long (s) ago the newest used sample arrived, or None before the first."""
@@ -121,16 +135,24 @@ class LinkWatch:
     def _sample_problems(self, now_s, clock_untrusted):
         bound_s, since_s, late_s = self.bound.bound_s, self.since_usable_s(now_s), self.sample_age_s
         kind, why = self._refusal or (None, '')
-        if kind in STALE_KINDS:   # unknown ages are the clock's problem, said above
-            return [] if kind == 'clock' else [(ERROR, NETWORK, 'puppet samples arrive too '
-                                                'late: %s: Baxter does not follow' % why)]
+        if kind in STALE_KINDS:
+            return []   # unknown ages are the clock's problem, said above
+        late = self.late_dropped(now_s)
         if since_s is not None and since_s <= self.silent_after_s:
+            if late:
+                return [(WARN, NETWORK, '%d puppet sample%s of the last %g s dropped: arrived '
+                                        'over the %.2f s bound, the newest %.2f s old' % (
+                                            len(late), 's' if len(late) > 1 else '',
+                                            LOSS_WINDOW_S, bound_s, late[-1][1]))]
             if late_s is not None and late_s > AGE_WARN_FRACTION * bound_s:
                 return [(WARN, NETWORK, 'puppet samples arrive %.2f s old (bound %.2f s)'
                          % (late_s, bound_s))]
             return []
         none = ('no usable puppet sample yet' if since_s is None else
                 'no usable puppet sample for %.2f s' % since_s)
+        if kind == LATE:
+            return [(ERROR, NETWORK, 'puppet samples arrive too late: %s, the newest %s: Baxter '
+                                     'does not follow' % (none, why))]
         if kind is not None:
             return [(ERROR, REFUSAL_FAULT[kind], '%s; refused: %s: Baxter does not follow'
                      % (none, why))]
@@ -162,6 +184,7 @@ class LinkWatch:
             ('fault', fault), ('rtt_s', '%.4f' % rtt_s), ('clock_offset_s', '%.4f' % offset_s),
             ('clock_error_s', '%.4f' % error_s), ('clock_known', known),
             ('sample_age_s', '%.3f' % age_s), ('max_sample_age_s', '%.2f' % self.bound.bound_s),
+            ('late_dropped_last_%gs' % LOSS_WINDOW_S, len(self.late_dropped(now_s))),
             ('since_usable_sample_s', '-1' if since_s is None else '%.3f' % since_s),
             ('loss', '-1' if loss is None else '%.3f' % loss),
             ('follows_within_s', '%.2f' % self.bound.late_s),

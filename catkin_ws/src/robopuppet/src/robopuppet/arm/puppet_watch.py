@@ -1,22 +1,25 @@
 """What one puppet arm's stream tells arm_X: its newest valid angles, silence, calibration (pure).
 
-Time is an argument. Teleop asks it whether the puppet has gone silent (no joint states or no
-heartbeat for too long, or a stale stream: joint states refused as too old, or of unknown age,
-since the newest usable ones), whether data came back after a fault, and which joints keep
-Baxter from following (encoders not Working, or no valid angle yet).
+Time is an argument. Teleop asks it whether the puppet has gone silent (no usable joint states
+or no heartbeat for too long, or a stale stream: joint states of unknown age since the newest
+usable ones), whether data came back after a fault, and which joints keep Baxter from following
+(encoders not Working, or no valid angle yet). Joint states that arrive too old are dropped: they
+never count as usable, and when no usable ones came for the state timeout the silence is a stale
+stream, named with the newest late one's age.
 """
 import math
 
 from robopuppet.interface import UNCALIBRATED, WORKING
 
 REFUSED = 'puppet joint states refused'   # how a stale stream's silence begins
+STALE = REFUSED + ': stale'                # ... when late ones came but no usable ones
 
 
 class PuppetWatch:
     """Follow one puppet arm's joint states and heartbeats.
 
     Args:
-        state_timeout_s: the puppet is silent when no joint states came for this long.
+        state_timeout_s: the puppet is silent when no usable joint states came for this long.
         heartbeat_timeout_s: ... or no heartbeat for this long (counted from the first joint
             states until the first beat).
     """
@@ -25,7 +28,7 @@ class PuppetWatch:
         self.state_timeout_s = state_timeout_s
         self.heartbeat_timeout_s = heartbeat_timeout_s
         self.refusal = None         # (time, why) of the newest refused joint states
-        self._refused = self._stale = None  # why, since the newest usable joint states
+        self._refused = self._stale = self._late = None  # why, since the newest usable ones
         self.angles = None          # newest finite angle per joint (rad), None: never
         self.statuses = []          # newest encoder statuses
         self.state_t = None         # time of the newest joint states, None: never heard from
@@ -48,17 +51,20 @@ class PuppetWatch:
                 self.ignored_angles += 1
         self.statuses = list(statuses)
         self.state_t = t
-        self._refused = self._stale = None
+        self._refused = self._stale = self._late = None
         if self._first_state_t is None:
             self._first_state_t = t
 
-    def on_refused(self, t, why, stale=False):
-        """Take joint states that may not be used (why: the reason); stale: they are too old or
-        of unknown age, so the stream is stale until usable ones come."""
+    def on_refused(self, t, why, stale=False, late=False):
+        """Take joint states that may not be used (why: the reason). stale: of unknown age, so
+        the stream is stale until usable ones come; late: too old, dropped (the silence they
+        leave names them)."""
         self.refusal = (t, why)
         self._refused = why
         if stale:
             self._stale = why
+        if late:
+            self._late = why
 
     def on_heartbeat(self, t):
         """Take a heartbeat."""
@@ -78,6 +84,9 @@ class PuppetWatch:
             return None
         if self._stale:
             return '%s: %s' % (REFUSED, self._stale)
+        if t - self.state_t > self.state_timeout_s and self._late:
+            return '%s, none usable for %.2f s: the newest %s' % (STALE, t - self.state_t,
+                                                                 self._late)
         if t - self.state_t > self.state_timeout_s:
             return 'no joint states from the puppet for %.2f s%s' % (
                 t - self.state_t, '; newer ones refused: %s' % self._refused

@@ -15,20 +15,33 @@ With the puppet on another host (two rooms, one network) a stream can also arriv
 late. arm_X therefore also bounds the age of each puppet sample on arrival, measured on the
 robot clock as an upper bound: the estimate plus the operator clock offset's error bound (half
 the shortest recent round trip, robopuppet.arm.link_clock), so that an uncertain clock makes
-samples look older, never younger. An older sample is refused, and as soon as one arrives the
-stream is stale (its newest usable sample is older still) and counts as silent. The default,
+samples look older, never younger. An older sample is late: it is dropped (never used for a
+command, counted and reported), and only usable samples count against the state timeout, so
+the stream is stale, a silent puppet, when no usable sample came for the state timeout; the
+fault then names the newest late sample's age and the bound. The default,
 DEFAULT_MAX_SAMPLE_AGE_S = 0.35 s, is reasoned out as follows:
 
-- Baxter never follows the puppet more than 0.5 s late (interface.STOP_WITHIN_S): a used sample
+- Baxter never follows a sample more than 0.5 s late (interface.STOP_WITHIN_S): a used sample
   is at most 0.35 s old on arrival, arm_X handles it within HANDLING_MARGIN_S (0.05 s: its
   callback queue on a loaded host) and it reaches Baxter by the next command step at the latest
-  (STOP_AFTER_TIMEOUT_S, 0.1 s). A link that fails stops Baxter within 0.5 s as well: no usable
-  sample for the state timeout (0.4 s at 10 Hz) is silence, and a delay that grows past the
-  bound but stays under the state timeout shows with its first late sample.
+  (STOP_AFTER_TIMEOUT_S, 0.1 s). A link that fails stops Baxter within 0.5 s of the newest
+  usable sample: no usable sample for the state timeout (0.4 s at 10 Hz) is silence, whether
+  nothing arrives or only late samples do.
 - A working link passes: at 50 ms one way a sample's age bound is about 0.1 s (the delay plus
-  half the 0.1 s round trip); at 10 Hz TCP on a path with 1 % loss holds a sample back by one
-  retransmission (a tail-loss probe or Linux's minimum retransmission timeout, about 0.2 s):
-  about 0.3 s. A longer hold-up (a second retransmission) faults the teleop: on the safe side.
+  half the 0.1 s round trip). ROS carries the samples over TCP, so a lost packet is a late
+  sample, not a missing one: on a path with 1 % loss TCP resends it after the next sample's
+  acknowledgement, a tail-loss probe or Linux's minimum retransmission timeout, and the samples
+  behind it wait; at 10 Hz on a 50 ms path the held sample arrives about 0.3 s old, up to
+  0.45 s on a loaded host, the next one with it, 0.1 s younger. Refusing such a sample used to
+  fault the teleop every few seconds; dropping it costs Baxter one state period of the hand,
+  and the sample behind it is used. At 10 Hz the gap between usable samples is then about the
+  held sample's age, so a hold-up of up to the state timeout passes; a longer one (two
+  retransmissions, or the machine stalling as well) is silence: on the safe side.
+- No fault on a count of consecutive late samples: a steadily late stream leaves no usable
+  sample, so the state timeout ends it 0.4 s after the last usable one at 10 Hz (within the
+  0.5 s stop), at most a state period after a count of even 3 late samples would; and at faster
+  rates a retransmission delivers a burst of held samples at once, several of them late, which
+  such a count would fault on although usable ones follow in the same burst.
 - On the robot host the bound does not depend on comm_rate: a sample's age is counted from its
   stamp to its arrival, not across the gap to the next one (the state timeout covers gaps).
 """
@@ -100,7 +113,7 @@ class AgeBound(collections.namedtuple('AgeBound', 'bound_s late_s')):
     """The bound on a puppet sample's age on arrival.
 
     Fields:
-        bound_s: an older sample is refused and makes the stream stale (s).
+        bound_s: an older sample is late: dropped, never used (s).
         late_s: Baxter follows the puppet at most this late: the bound (which counts the
             clock's error), arm_X's handling and a command step (s).
     """
@@ -114,7 +127,7 @@ class AgeBound(collections.namedtuple('AgeBound', 'bound_s late_s')):
 
     def describe(self):
         """Return what the bound means; it says so when Baxter may follow too late."""
-        text = 'puppet samples older than %.2f s on arrival are refused: ' % self.bound_s
+        text = 'puppet samples older than %.2f s on arrival are dropped: ' % self.bound_s
         if self.meets_stop:
             return text + 'Baxter follows the puppet at most %.2f s late' % self.late_s
         return text + 'Baxter may follow the puppet %.2f s late, not within %.2f s' % (

@@ -3,8 +3,12 @@
 init only once per process); it reports on stdout, one JSON object per line.
 
     ros_node.py talk TOPIC [RATE_HZ]    publish std_msgs/String '0', '1', '2', ... at RATE_HZ
-    ros_node.py listen TOPIC TYPE       subscribe (TYPE e.g. std_msgs/String,
-                                        baxter_core_msgs/JointCommand); print each message
+    ros_node.py listen TOPIC TYPE [nodelay]
+                                        subscribe (TYPE e.g. std_msgs/String,
+                                        baxter_core_msgs/JointCommand); print each message;
+                                        nodelay: ask for TCP_NODELAY, as arm_X does for the
+                                        puppet's joint_states (a lost packet then delays the
+                                        samples as it does arm_X's)
 
 First line: {"ready": true, "node": NAME, "uri": its XML-RPC URI}. Then, for `listen`, one line
 per message: {"t": receipt time (s, time.time()), "msg": {field: value, ...}}. Environment:
@@ -66,7 +70,8 @@ def main(argv):
             print('unknown message type %s' % argv[2], file=sys.stderr)
             return 2
         rospy.Subscriber(topic, msg_class,
-                         lambda msg: report(t=time.time(), msg=to_plain(msg)), queue_size=1000)
+                         lambda msg: report(t=time.time(), msg=to_plain(msg)), queue_size=1000,
+                         tcp_nodelay=argv[3:4] == ['nodelay'])
         report(ready=True, node=rospy.get_name(), uri=rospy.get_node_uri())
         rospy.spin()
     return 0
