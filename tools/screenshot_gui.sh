@@ -2,7 +2,8 @@
 # Screenshot the RoboPuppet GUI (gui_R) while the simulated system runs, on a virtual screen.
 #   tools/screenshot_gui.sh [OUT_DIR]
 # Starts its own roscore on a free port with main_sim.launch (Baxter stand-in without RViz, arm R
-# on the simulated puppet, its arm controller, the simulated cameras), then
+# on the simulated puppet, its arm controller, the simulated cameras, the keep-out zones of
+# config/zones.yaml), then
 # tools/screenshot_gui.py drives the real GUI like an operator and saves OUT_DIR/gui_main.png,
 # OUT_DIR/gui_joint1.png and OUT_DIR/gui_camera_reach.jpg (default OUT_DIR: ./screenshots).
 # Stops everything it started. ROS_HOME is always a fresh temporary directory (its live
@@ -21,6 +22,7 @@ ROS_HOME="$(mktemp -d)"
 export ROS_HOME ROS_LOG_DIR="$ROS_HOME/log"
 exec xvfb-run -a -s "-screen 0 1600x900x24" bash -c '
   roslaunch -p "$PORT" robopuppet main_sim.launch rviz:=false gui:=false \
+    zones_file:="$ROOT/catkin_ws/src/robopuppet/config/zones.yaml" \
     sim_link_prefix:="$ROS_HOME/robopuppet" >"$ROS_HOME/launch.log" 2>&1 &
   launch_pid=$!
   sleep 5

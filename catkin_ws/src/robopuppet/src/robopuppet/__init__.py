@@ -12,9 +12,9 @@ Data flows from the puppet to Baxter:
 |               | settings (the joint settings), baxter_description (URDF),   |                 |
 |               | periodic (guarded loops), params (parameter checks)         |                 |
 | config/       | config_X: ini store, settings keeper, atomic file, the node | tables          |
-| baxter_sim/   | baxter_sim: the kinematic Baxter stand-in and its node      | tables          |
+| baxter_sim/   | baxter_sim: the kinematic Baxter stand-in and its node      | tables, world   |
 | protocol/     | serial_X: frames, link, state sets, serial core, settings   | tables          |
-| arm/          | arm_X: controller, teleop, puppet/Baxter watches, timing    | tables          |
+| arm/          | arm_X: controller, teleop, puppet/Baxter watches, timing    | tables, world   |
 | puppet_sim/   | puppet_sim_X: the simulated 2020 firmware and its node      | tables,protocol |
 | calibration/  | home_angle and sign_angle solved from poses; the wizard's   | tables          |
 |               | steps and the terminal command calibrate (calibrate_node)   |                 |
@@ -27,15 +27,19 @@ Data flows from the puppet to Baxter:
 |               | names, metadata, disk rule, the episode's files, repair);   | (the exporter), |
 |               | the exporter of episodes                                    | config (the ini |
 |               |                                                             | file's path)    |
-| cameras/      | camera (webcams), camera_republish, sim_cameras: the        | tables          |
-|               | stand-in's world (shape files, meshes) rendered by OpenGL   |                 |
+| cameras/      | camera (webcams), camera_republish, sim_cameras: the        | tables, world   |
+|               | stand-in's world file and meshes, rendered by OpenGL        |                 |
+| world/        | Baxter's surroundings: the shape-file format (world.yaml,   | tables          |
+|               | zones, obstacles), the arm as capsules, clearances, the     |                 |
+|               | keep-out zone guard                                         |                 |
 
 The subsystems meet only through ROS topics and services named in interface.py (settings reach
 serial_X as config_X's stored_settings, not as an import); puppet_sim/ shares protocol/'s codec
 because it speaks the same wire, and gui/ uses config/'s form checks, puppet_sim/'s rest
 pose for its virtual puppet, calibration/'s steps for its wizard and episodes/' status line.
-ghost/ maps the puppet's angles with arm/'s pure joint_motion and readings, so that the ghost
-shows exactly what arm_X would command.
+cameras/ reads its world file's shapes and arm/ its keep-out zones through world/, which
+holds no node of its own. ghost/ maps the puppet's angles with arm/'s pure joint_motion and
+readings, so that the ghost shows exactly what arm_X would command.
 
 Within a folder the node adapter (`*_node.py`) is the only module that talks to ROS (besides
 gui.puppet_client, the GUI's ROS client); the others are pure (no rospy, no Qt outside

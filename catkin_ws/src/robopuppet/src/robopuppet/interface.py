@@ -63,6 +63,8 @@ SIM_LINE_NOISE = 'line_noise'
 SIM_DEVICE_CONFIG, SIM_DEVICE_OPMODE = 'device_config', 'device_opmode'
 DIAGNOSTICS = '/diagnostics'
 REPLAY_STOP = '/puppet/replay_stop'  # std_msgs/Empty: stop a running replay (the GUI's Stop)
+# visualization_msgs/MarkerArray, latched (arm_X): the keep-out zones, in Baxter's base frame
+ZONE_MARKERS = '/robopuppet/keepout_zones'
 # Each node's status of one arm on /diagnostics: hardware_id is puppet_ns(side) and the status
 # name ends with what it is about, so a reader finds it without knowing the node's name.
 DIAG_LINK = 'puppet serial link'   # serial_X

@@ -15,32 +15,34 @@ SRC_DIR = pathlib.Path(__file__).resolve().parents[2] / 'src' / 'robopuppet'
 LAYERS = {
     'tables': set(),
     'config': set(),
-    'baxter_sim': set(),
+    'baxter_sim': {'world'},
     'protocol': set(),
-    'arm': set(),
+    'arm': {'world'},
     'puppet_sim': {'protocol'},
     'calibration': set(),
     'gui': {'calibration', 'config', 'episodes', 'puppet_sim'},
     'ghost': {'arm'},
     'episodes': {'arm', 'config'},
-    'cameras': set(),
+    'cameras': {'world'},
+    'world': set(),
 }
 # The modules that may talk to ROS: the node adapters (named *_node; only the executables in
 # nodes/ import them) and the adapters they use.
 ADAPTERS = {
     'config.config_node', 'protocol.serial_node', 'arm.arm_node', 'arm.link_topics',
+    'arm.zone_topics',
     'puppet_sim.puppet_sim_node', 'baxter_sim.baxter_sim_node', 'gui.gui_node',
     'gui.puppet_client', 'ghost.ghost_node', 'calibration.calibrate_node',
     'episodes.export_files', 'episodes.recorder_node', 'episodes.episode_files',
-    'episodes.replay_node', 'episodes.puppet_player',
+    'episodes.replay_node', 'episodes.puppet_player', 'episodes.player',
     'cameras.camera_node', 'cameras.republish_node', 'gui.camera_client',
-    'cameras.sim_camera_node',
+    'cameras.sim_camera_node', 'cameras.node_loops',
 }
 # The GUI's widgets are Qt by nature; they may import Qt but not rospy.
 QT_MODULES_OK = 'gui'
 ROS_MODULES = {'rospy', 'rospkg', 'rosgraph', 'rosbag', 'genpy', 'roslib', 'tf2_ros',
                'std_msgs', 'sensor_msgs', 'geometry_msgs', 'diagnostic_msgs', 'tf2_msgs',
-               'baxter_core_msgs', 'robopuppet_msgs'}
+               'baxter_core_msgs', 'robopuppet_msgs', 'visualization_msgs'}
 QT_MODULES = {'PyQt5', 'pyqtgraph'}
 
 

@@ -11,7 +11,7 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool, Empty, Float32, String, UInt8
 
 from robopuppet import baxter_description, interface as ifc, params, settings
-from robopuppet.arm import baxter_upkeep, controller, link_topics, teleop, timing
+from robopuppet.arm import baxter_upkeep, controller, link_topics, teleop, timing, zone_topics
 from robopuppet.periodic import Guard, Loop
 from robopuppet_msgs.msg import TeleopState
 
@@ -45,9 +45,14 @@ class ArmNode:
         ~comm_rate (Hz, 10: the puppet's state-set rate; the state timeout follows from it, see
         arm.timing), ~heartbeat_timeout (s, 2.5), ~approach_speed (rad/s, 0.5, capped per joint
         by the URDF's velocity limit), ~max_sample_age (s, 0.35: a puppet sample older than this
-        on arrival is refused and stops Baxter following, so that Baxter never follows more
-        than 0.5 s late, yet a TCP retransmission at 10 Hz passes; see arm.timing; before the
-        first echo, and 3 s after the last, no age is known: nothing follows).
+        on arrival is dropped, never followed, so that Baxter never follows more than 0.5 s
+        late; no usable sample for the state timeout stops Baxter following; see arm.timing;
+        before the first echo, and 3 s after the last, no age is known: nothing follows),
+        ~zones_file (str, '' for none; e.g. the package's config/zones.yaml: keep-out zones that
+        cut every command of a following arm, docs/zones.md; a bad file stops the node).
+      Keep-out zones: publishes interface.ZONE_MARKERS (/robopuppet/keepout_zones,
+        visualization_msgs/MarkerArray, latched); teleop_state's detail names the zone and link
+        that hold an arm back.
     """
 
     def __init__(self):
@@ -60,10 +65,15 @@ class ArmNode:
             (rospy.loginfo if told.meets_stop else rospy.logwarn)('%s: %s', self._name,
                                                                    told.describe())
         self._lock, self._guard = threading.Lock(), Guard(self._name, rospy.logerr)
+        path = zone_topics.zones_file()
+        zone_guards, found = zone_topics.load_guards(path)
+        rospy.loginfo('%s: %d keep-out zones%s', self._name, len(found),
+                      ' from %s' % path if path else ' (~zones_file is empty)')
         self._core = core = controller.ArmController(
             side, {s: baxter_description.arm_limits(s) for s in ifc.BAXTER_SIDES}, rate,
             param('heartbeat_timeout', ifc.HEARTBEAT_TIMEOUT_S), param('approach_speed', 0.5),
-            self._period_s, self._guard, time.monotonic(), bound)
+            self._period_s, self._guard, time.monotonic(), bound, zone_guards)
+        self._zones_pub = zone_topics.publish_zones(found)
         pub, sub = (functools.partial(f, queue_size=10) for f in (rospy.Publisher,
                                                                   rospy.Subscriber))
         arm = {s: pub(ifc.limb_topic(s, 'joint_command'), JointCommand, tcp_nodelay=True)

@@ -16,7 +16,7 @@ from robopuppet import baxter_description, settings
 from robopuppet.arm.baxter_upkeep import BaxterUpkeep
 from robopuppet.arm.baxter_watch import MAX_EXTRAPOLATION_S
 from robopuppet.arm.link_clock import Refused
-from robopuppet.arm.link_watch import STALE_KINDS, LinkWatch
+from robopuppet.arm.link_watch import LATE, STALE_KINDS, LinkWatch
 from robopuppet.arm.readings import arm_poses, joint_angles, non_finite_joints
 from robopuppet.arm.teleop import Grip, Teleop
 from robopuppet.interface import (BAXTER_SIDES, CALIBRATING, DIAG_TELEOP, DISCONNECTED, FAULT,
@@ -54,14 +54,16 @@ class ArmController:
         guard: the node's robopuppet.periodic.Guard (its errors go into the report).
         t: the time (s) at the start.
         age_bound: the timing.AgeBound on puppet samples' age.
+        zone_guards: {side: world.zones.ZoneGuard} that cut commands at keep-out zones (see
+            teleop.Teleop).
     """
 
     def __init__(self, side, limits, timing, heartbeat_timeout_s, approach_speed_rad_s,
-                 command_period_s, guard, t, age_bound):
+                 command_period_s, guard, t, age_bound, zone_guards=None):
         self.teleop = Teleop(side, limits, state_timeout_s=timing.timeout_s,
                              heartbeat_timeout_s=heartbeat_timeout_s,
                              approach_speed_rad_s=approach_speed_rad_s,
-                             command_period_s=command_period_s)
+                             command_period_s=command_period_s, zone_guards=zone_guards)
         self.baxter = BaxterUpkeep()
         self.link = LinkWatch(side, age_bound, timing.timeout_s)
         self.timing = timing
@@ -87,8 +89,9 @@ class ArmController:
         now_s (robot clock); return (taken, a warning to log or '').
 
         A message without joint_0..joint_6 is refused (not taken) and counted; so is one that
-        link_watch does not let through (too old or of unknown age: the stream is stale, which
-        teleop takes as a silent puppet; out of order).
+        link_watch does not let through (of unknown age: the stream is stale, which teleop takes
+        as a silent puppet; too old: dropped, silent only when no usable one comes for the state
+        timeout; out of order).
         """
         try:
             angles = joint_angles(names, positions)
@@ -99,7 +102,11 @@ class ArmController:
         try:
             self.link.take(now_s, stamp_s)
         except Refused as refusal:
-            self.teleop.on_refused(t, str(refusal), refusal.kind in STALE_KINDS)
+            self.teleop.on_refused(t, str(refusal), stale=refusal.kind in STALE_KINDS,
+                                   late=refusal.kind == LATE)
+            if refusal.kind == LATE:
+                return False, 'puppet joint_states dropped (%d late so far): %s' % (
+                    self.link.refused[LATE], refusal)
             return False, 'puppet joint_states refused (%d %s so far): %s' % (
                 self.link.refused[refusal.kind], refusal.kind, refusal)
         self.teleop.on_joint_states(t, list(self._statuses), angles)

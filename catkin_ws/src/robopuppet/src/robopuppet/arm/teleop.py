@@ -30,6 +30,7 @@ from robopuppet.interface import (BAXTER_SIDE, BAXTER_SIDES, BUTTON_HOLD, BUTTON
 
 FOLLOW_BUTTON = dict(zip((BUTTON_LEFT, BUTTON_RIGHT), BAXTER_SIDES))  # button -> Baxter's arm
 GRIP_PRESSED_BELOW, GRIP_RELEASED_ABOVE = 0.3, 0.7  # end-piece reading, with hysteresis
+ZONE_HELD = "held back by keep-out zone '%s' (%s)"   # the detail while a zone cuts commands
 CLAIM_EXPIRY_S = 1.5       # the other puppet's claim on an arm lasts this long unless renewed
 
 # (state, event) -> next state. Events not listed for a state leave it unchanged.
@@ -83,14 +84,21 @@ class Teleop:
         track_tolerance_rad: the approach ends when every joint is this close to the target.
         command_period_s: the nominal time between commands; the speed budget holds this much
             motion, so one command may carry speed x command_period_s at once.
+        zone_guards: {side: world.zones.ZoneGuard} of the arms that keep-out zones bind: each
+            command of a following arm is cut where its motion from the last command would
+            enter a zone, and the speed budget goes on from the cut command (see zone_hits).
     Joint states that may not be used (too old, of unknown age, out of order) go to on_refused;
-    too old or of unknown age (stale=True), the puppet counts as silent until usable ones come.
+    of unknown age (stale=True), the puppet counts as silent until usable ones come; too old
+    (late=True), they are dropped, and name the silence when no usable ones come.
     """
 
     def __init__(self, puppet_side, limits, state_timeout_s=timing.DEFAULT.timeout_s,
                  heartbeat_timeout_s=HEARTBEAT_TIMEOUT_S, approach_speed_rad_s=0.5,
-                 track_tolerance_rad=0.02, command_period_s=0.01):
+                 track_tolerance_rad=0.02, command_period_s=0.01, zone_guards=None):
         self.own_side = BAXTER_SIDE[check_side(puppet_side)]
+        self.zone_guards = zone_guards or {}
+        self.zone_hits = {side: None for side in BAXTER_SIDES}  # the zone holding an arm back
+        self._zone_said = False    # the detail names a zone
         self.limits = limits
         self.puppet = PuppetWatch(state_timeout_s, heartbeat_timeout_s)
         self.robot = BaxterWatch(limits)
@@ -271,7 +279,11 @@ class Teleop:
             speeds = [lim.velocity if self.tracking[side]
                       else min(self.approach_speed_rad_s, lim.velocity)
                       for lim in self.limits[side]]
+            before = self._motion[side].command
             command = self._motion[side].move(target, speeds, t)
+            if side in self.zone_guards:
+                command, self.zone_hits[side] = self.zone_guards[side].slide(before, command)
+                self._motion[side].command = command
             if max(abs(c - g) for c, g in zip(command, target)) <= self.track_tolerance_rad:
                 self.tracking[side] = True
             commands[side] = command
@@ -307,5 +319,20 @@ class Teleop:
         self._act_on_presses(t, actions)
         self._grip_actions(actions)
         commands = self._commands_now(t) if self.state == FOLLOWING else {}
+        self._zone_detail()
         commands.update(self._stay_commands(t, was_following))
         return Step(commands, actions)
+
+    def _zone_detail(self):
+        """Say in the detail which keep-out zone holds which arm back, and stop saying it when
+        none does."""
+        for side in BAXTER_SIDES:
+            if not self.following[side]:
+                self.zone_hits[side] = None
+        held = [ZONE_HELD % (hit.zone, hit.link)
+                for hit in (self.zone_hits[s] for s in BAXTER_SIDES) if hit is not None]
+        if held:
+            self.detail = '; '.join(held)
+        elif self._zone_said and self.state == FOLLOWING:
+            self._after_follow_change('')
+        self._zone_said = bool(held)

@@ -2,7 +2,8 @@
 
 Pure: every method that changes with time takes `now_s` (seconds, any monotonic origin); nothing
 here reads a clock or imports rospy. Joint names and limits come from baxter_description; the
-gripper is robopuppet.baxter_sim.baxter_gripper, the refusals robopuppet.baxter_sim.baxter_refusals.
+gripper is robopuppet.baxter_sim.baxter_gripper, the refusals robopuppet.baxter_sim.baxter_refusals,
+the contact with obstacles robopuppet.baxter_sim.baxter_contact.
 """
 import math
 
@@ -26,15 +27,18 @@ SMOOTHING_TIME_S = 0.05
 class Arm:
     """One arm: 7 joints following position commands within their limits.
 
-    Positions in rad, speeds in rad/s, times in s.
+    Positions in rad, speeds in rad/s, times in s, torques in N m. With a contact
+    (baxter_contact.ArmContact) the arm stops where a link would enter an obstacle.
     """
 
-    def __init__(self, side, description, now_s):
+    def __init__(self, side, description, now_s, contact=None):
         self.side = side
+        self.contact = contact
         self.limits = {lim.name: lim for lim in description.arm_limits(side)}
         self.max_effort = {name: description.joints[name].effort for name in self.limits}
         self.rates = dict.fromkeys(self.limits, 0.0)     # modes 2 and 3: joint speeds, rad/s
         self.torques = dict.fromkeys(self.limits, 0.0)   # mode 3: commanded torques, N m
+        self.efforts = dict(self.torques)   # reported: commanded torques, or contact torques
         self.positions = dict(bd.neutral_pose(side))
         self.velocities = {name: 0.0 for name in self.limits}
         self.targets = dict(self.positions)
@@ -50,6 +54,7 @@ class Arm:
         self.last_command_s = None
         self.rates = dict.fromkeys(self.rates, 0.0)
         self.torques = dict.fromkeys(self.torques, 0.0)
+        self.efforts = dict(self.torques)
 
     def command(self, mode, names, values, now_s):
         """Take new targets; names may be any subset of this arm's joints, in any order.
@@ -127,19 +132,37 @@ class Arm:
             smoothing = 1.0 - math.exp(-active_s / SMOOTHING_TIME_S)
             ratio = self.speed_ratio
         integrating = self.mode in (VELOCITY_MODE, TORQUE_MODE)
+        old = dict(self.positions)
         for name, limit in self.limits.items():
-            old = self.positions[name]
             if integrating:
-                new = min(limit.upper, max(limit.lower, old + self.rates[name] * active_s))
+                new = min(limit.upper, max(limit.lower, old[name] + self.rates[name] * active_s))
             else:
-                new = approach(old, self.targets[name], ratio * limit.velocity * active_s,
+                new = approach(old[name], self.targets[name], ratio * limit.velocity * active_s,
                                smoothing)
             self.positions[name] = new
-            self.velocities[name] = (new - old) / dt
+        self.efforts = dict(self.torques)
+        if self.contact is not None:
+            self._touch(old, integrating)
+        for name in self.limits:
+            self.velocities[name] = (self.positions[name] - old[name]) / dt
         if self.last_command_s is None:
             self.hold()
         elif integrating:
             self.targets = dict(self.positions)
+
+    def _touch(self, old, integrating):
+        """Cut this step's motion from `old` at contact. Blocked joints press: in modes 1 and 4
+        with their command's distance past contact (ArmContact.press), in modes 2 and 3 with
+        the torque their speed stands for (mode 3's own torque)."""
+        names = list(self.limits)
+        reached, blocked = self.contact.limit([old[n] for n in names],
+                                              [self.positions[n] for n in names])
+        press = self.contact.press([self.targets[n] - reached[j] for j, n in enumerate(names)])
+        for j, name in enumerate(names):
+            self.positions[name] = float(reached[j])
+            if blocked[j]:
+                self.efforts[name] = (self.rates[name] / self.limits[name].velocity
+                                      * self.max_effort[name] if integrating else float(press[j]))
 
 
 class BaxterModel:
@@ -149,13 +172,15 @@ class BaxterModel:
         description: a baxter_description.Description.
         now_s: the start time.
         gripper_calibrated: whether the grippers start calibrated.
+        contacts: {side: baxter_contact.ArmContact} of the arms that obstacles block.
     """
 
-    def __init__(self, description, now_s, gripper_calibrated=False):
+    def __init__(self, description, now_s, gripper_calibrated=False, contacts=None):
         self.description = description
         self.enabled = False
         self.stopped = False
-        self.arms = {side: Arm(side, description, now_s) for side in BAXTER_SIDES}
+        self.arms = {side: Arm(side, description, now_s, (contacts or {}).get(side))
+                     for side in BAXTER_SIDES}
         self.fingers = {side: bd.gripper_finger_joints(side) for side in BAXTER_SIDES}
         travel_m = {side: description.limit(self.fingers[side][0]).upper for side in BAXTER_SIDES}
         self.finger_travel_m = travel_m
@@ -266,8 +291,9 @@ class BaxterModel:
         """Return (names, positions, velocities, efforts), equal-length lists.
 
         Names are every movable URDF joint plus torso_t0, sorted. Effort (N m) is the torque a
-        torque-mode command applies on top of gravity compensation, else 0: the URDF carries no
-        masses, so the model knows no gravity torques.
+        torque-mode command applies on top of gravity compensation, or a blocked joint's press
+        on an obstacle (Arm._touch), else 0: the URDF carries no masses, so the model knows no
+        gravity torques.
         """
         positions = self.positions()
         velocities = dict.fromkeys(positions, 0.0)
@@ -275,7 +301,7 @@ class BaxterModel:
         velocities[bd.HEAD_PAN] = self.head.velocity_rad_s
         for side in BAXTER_SIDES:
             velocities.update(self.arms[side].velocities)
-            efforts.update(self.arms[side].torques)
+            efforts.update(self.arms[side].efforts)
             driven, mimic = self.fingers[side]
             speed = (self.grippers[side].speed_pct_s / GRIPPER_OPEN
                      * self.finger_travel_m[side])

@@ -20,15 +20,35 @@ from std_msgs.msg import Bool, Empty, Float64, Header
 
 from robopuppet import baxter_description as bd, interface, params
 from robopuppet.baxter_sim import baxter_api as api
+from robopuppet.baxter_sim.baxter_contact import arm_contacts
 from robopuppet.baxter_sim.baxter_model import BaxterModel
 from robopuppet.interface import BAXTER_SIDES
 from robopuppet.periodic import Guard, Loop
+from robopuppet.world import obstacles
 
 SWITCH_INTERVAL_S = 0.0005
 
 
 def _param(name, default, check):
     return check(rospy.resolve_name(name), rospy.get_param(name, default))
+
+
+def _contacts(description, urdf_text):
+    """Return the arms' ArmContacts with the ~obstacles_file's obstacles: {} when there are
+    none, and {} with an error logged when the file cannot be used."""
+    value = rospy.get_param('~obstacles_file', None)
+    try:
+        if value is not None and not isinstance(value, str):
+            raise ValueError('~obstacles_file must be a file path, got %r' % (value,))
+        path = obstacles.chosen_path(value, rospkg.RosPack().get_path('robopuppet'))
+        shapes = obstacles.load_obstacles(path) if path else []
+        contacts = arm_contacts(description, urdf_text, shapes)
+    except ValueError as error:   # also ObstacleFileError and arm_capsules.CapsuleError
+        rospy.logerr('baxter_sim: running without obstacles: %s', error)
+        return {}
+    rospy.loginfo('baxter_sim: %s', 'obstacles from %s: %s' % (
+        path, ', '.join(s.name for s in shapes)) if shapes else 'no obstacles')
+    return contacts
 
 
 class BaxterSimNode:
@@ -47,16 +67,21 @@ class BaxterSimNode:
         callback or the loop (both go on), with the count of failures since start.
       Parameters: /robot_description (URDF text; the package's urdf/baxter.urdf when unset),
         ~rate_hz (float, 100), ~joint_command_timeout (float s, 0.2, initial value for both
-        arms), ~gripper_calibrated (bool, false: like the real grippers after power-up).
+        arms), ~gripper_calibrated (bool, false: like the real grippers after power-up),
+        ~obstacles_file (str, unset: the package's config/obstacles.yaml when it exists; '':
+        none): shapes that block the arms (a file that cannot be used is logged as an error
+        and the node runs without obstacles).
     """
 
     def __init__(self):
         """Read and check the parameters (ValueError naming an unusable one), then wire up."""
         text = rospy.get_param('/robot_description', None)
         try:
-            description = bd.Description(text) if text else bd.load(
-                bd.urdf_path(rospkg.RosPack().get_path('robopuppet')))
-        except bd.DescriptionError as error:
+            if not text:
+                with open(bd.urdf_path(rospkg.RosPack().get_path('robopuppet'))) as urdf:
+                    text = urdf.read()
+            description = bd.Description(text)
+        except (OSError, bd.DescriptionError) as error:
             raise ValueError('parameter /robot_description: %s' % error) from error
         self._rate_hz = _param('~rate_hz', 100.0, params.positive)
         timeout_s = _param('~joint_command_timeout', 0.2, params.positive)
@@ -65,7 +90,8 @@ class BaxterSimNode:
         self._state_lock = threading.Lock()   # orders /robot/state messages like the changes
         self._guard = Guard(rospy.get_name(), self._log_failure)
         self._api = api.BaxterApi(BaxterModel(description, rospy.get_time(),
-                                              gripper_calibrated=calibrated), timeout_s)
+                                              gripper_calibrated=calibrated,
+                                              contacts=_contacts(description, text)), timeout_s)
         rospy.set_param(interface.SOFTWARE_VERSION_PARAM, api.SOFTWARE_VERSION)
         self._state_pub = rospy.Publisher(interface.ROBOT_STATE, AssemblyState, queue_size=1,
                                           latch=True)

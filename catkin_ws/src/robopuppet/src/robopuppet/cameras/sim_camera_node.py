@@ -12,6 +12,7 @@ from sensor_msgs.msg import CameraInfo, CompressedImage, Image, JointState
 
 from robopuppet import baxter_description as bd, interface
 from robopuppet.cameras import node_loops, scene, sim_cameras
+from robopuppet.world import obstacles as obstacle_files
 
 
 class SimCameraNode:
@@ -34,11 +35,11 @@ class SimCameraNode:
     Parameters (sim_cameras.DEFAULTS): ~rate (float, 15 Hz), ~width, ~height (int, 640 x 480
         pixels), ~quality (int 1..100, 80), ~cameras (list, room_camera, left_hand_camera,
         right_hand_camera; head_camera too if asked), ~world_file (str, the package's
-        config/world.yaml), ~obstacles_file, ~zones_file (str, config/obstacles.yaml and
-        config/zones.yaml: drawn when they exist), ~nice (int 0..19, 10: added to the node's
-        nice value, so that under a full CPU its frames slow down before the stand-in's and
-        the arm controllers' loops do); /robot_description (URDF text; the package's
-        urdf/baxter.urdf when unset).
+        config/world.yaml), ~obstacles_file (str, unset: config/obstacles.yaml, '': none, as
+        baxter_sim's), drawn when it exists, ~zones_file (str, '': none; arm_X's keep-out zones), ~nice (int
+        0..19, 10: added to the node's nice value, so that under a full CPU its frames slow
+        down before the stand-in's and the arm controllers' loops do); /robot_description
+        (URDF text; the package's urdf/baxter.urdf when unset).
     """
 
     def __init__(self, settings, core):
@@ -164,7 +165,7 @@ def _package_file(path, folder, default_name):
 def _shapes_if_present(path):
     """Return the shapes of an optional obstacle or zone file: [] when it does not exist, and
     [] with an error logged when it is malformed (the cameras go on without them)."""
-    if not os.path.exists(path):
+    if path is None or not os.path.exists(path):
         return []
     try:
         return scene.load_world(path).shapes
@@ -191,9 +192,9 @@ def main():
         os.nice(settings.nice)
         world_file = _package_file(settings.world_file, 'config', 'world.yaml')
         world = scene.load_world(world_file)
-        obstacles = _shapes_if_present(_package_file(settings.obstacles_file, 'config',
-                                                     'obstacles.yaml'))
-        zones = _shapes_if_present(_package_file(settings.zones_file, 'config', 'zones.yaml'))
+        obstacles = _shapes_if_present(obstacle_files.chosen_path(
+            settings.obstacles_file, rospkg.RosPack().get_path('robopuppet')))
+        zones = _shapes_if_present(settings.zones_file or None)
         core = sim_cameras.SimCameras(_urdf_text(), world, settings.width, settings.height,
                                       settings.cameras, obstacles, zones)
     except (OSError, ValueError) as error:

@@ -19,8 +19,9 @@ DEFAULTS = {
     'quality': 80,       # JPEG quality 1..100 of image/compressed
     'cameras': list(interface.SIM_CAMERAS),
     'world_file': '',    # '' means the package's config/world.yaml
-    'obstacles_file': '',  # '' means config/obstacles.yaml, drawn if it exists (issue 12)
-    'zones_file': '',    # '' means config/zones.yaml, drawn translucent red if it exists
+    'obstacles_file': None,  # world.obstacles.chosen_path: unset config/obstacles.yaml, '' none
+    'zones_file': '',    # the keep-out zones arm_X enforces (its ~zones_file), drawn translucent
+                         # red; '' none, like arm_X's default
     'nice': 10,          # added to the node's nice value: pictures yield the CPU to control
 }
 MAX_RATE_HZ = 60.0
@@ -35,7 +36,7 @@ ZONE_RGBA = (1.0, 0.0, 0.0, 0.3)
 
 Settings = collections.namedtuple('Settings', 'rate_hz width height quality cameras world_file '
                                               'obstacles_file zones_file nice')
-Settings.__doc__ = """The node's checked parameters (see DEFAULTS; '' files not resolved)."""
+Settings.__doc__ = """The node's checked parameters (see DEFAULTS; files not resolved)."""
 Camera = collections.namedtuple('Camera', 'name frame_id link pose k')
 Camera.__doc__ = """One simulated camera: frame_id of its images; link: the URDF frame it rides
 on (None for a fixed camera); pose: its fixed 4x4 optical-frame pose in the base frame (None
@@ -58,7 +59,7 @@ def read_settings(get):
         raise ValueError('~cameras must be a list of different camera names, got %r'
                          % (cameras,))
     for key in ('world_file', 'obstacles_file', 'zones_file'):
-        if not isinstance(raw[key], str):
+        if not isinstance(raw[key], str) and not (key == 'obstacles_file' and raw[key] is None):
             raise ValueError('~%s must be a file path, got %r' % (key, raw[key]))
     nice = raw['nice']
     if isinstance(nice, bool) or not isinstance(nice, int) or not 0 <= nice <= 19:

@@ -1,0 +1,212 @@
+"""One Baxter arm as capsules (segment + radius), posed by the URDF's forward kinematics.
+
+Every link below <side>_arm_mount (shoulder to gripper fingertips) that has primitive geometry in
+the URDF becomes capsules, one per shape: a cylinder is the segment along its axis with its
+radius; a box, the segment along its longest side with the half diagonal of its cross-section as
+radius; a sphere, a point with its radius. Each capsule contains its shape. A link's <collision>
+shapes are used when it has any, else its <visual> ones (robopuppet's URDF has visuals only, the
+same shapes RViz and the simulated cameras draw). A link below a prismatic joint (the gripper
+fingers) is taken at the middle of the joint's travel with every radius grown by half the travel,
+so that its capsules hold it at any gripper opening.
+
+The pose of every capsule comes from the same joint origins and axes as
+baxter_description.Description.transform (and robot_state_publisher), batched over many
+configurations with numpy. Pure: XML and numpy, no ROS.
+"""
+import xml.etree.ElementTree as ET
+
+import numpy as np
+
+from robopuppet import baxter_description as bd
+
+
+class CapsuleError(ValueError):
+    """The robot description has no usable shapes for an arm link."""
+
+
+def _floats(text, default, count):
+    values = [float(v) for v in (text or default).split()]
+    if len(values) != count:
+        raise ValueError('expected %d numbers, got %r' % (count, text))
+    return values
+
+
+def _origin(element):
+    origin = element.find('origin')
+    xyz = _floats(origin.get('xyz') if origin is not None else None, '0 0 0', 3)
+    rpy = _floats(origin.get('rpy') if origin is not None else None, '0 0 0', 3)
+    pose = np.eye(4)
+    pose[:3, :3] = bd.rpy_matrix(*rpy)
+    pose[:3, 3] = xyz
+    return pose
+
+
+def _shape_capsule(geometry, pose):
+    """Return ((end 1, end 2) in the link frame, radius) of a capsule holding a geometry, or None
+    for a mesh."""
+    for shape in geometry:
+        if shape.tag == 'cylinder':
+            radius, half = float(shape.get('radius')), float(shape.get('length')) / 2.0
+            axis = pose[:3, 2] * half
+        elif shape.tag == 'box':
+            size = np.array(_floats(shape.get('size'), '', 3))
+            longest = int(np.argmax(size))
+            radius = float(np.hypot(*np.delete(size, longest))) / 2.0
+            axis = pose[:3, longest] * size[longest] / 2.0
+        elif shape.tag == 'sphere':
+            radius, axis = float(shape.get('radius')), np.zeros(3)
+        elif shape.tag == 'mesh':
+            return None
+        else:
+            raise ValueError('unknown geometry <%s>' % shape.tag)
+        return (pose[:3, 3] - axis, pose[:3, 3] + axis), radius
+    raise ValueError('empty <geometry>')
+
+
+def link_capsules(urdf_text):
+    """Return {link: [((end 1, end 2) m in the link frame, radius m), ...]} of every link with
+    primitive shapes (collision ones if it has any, else visual ones).
+
+    Raises:
+        CapsuleError: the text is not XML, or a shape is malformed.
+    """
+    try:
+        root = ET.fromstring(urdf_text)
+    except ET.ParseError as error:
+        raise CapsuleError('robot description is not XML: %s' % error) from error
+    result = {}
+    for link in root.findall('link'):
+        name = link.get('name')
+        try:
+            for tag in ('collision', 'visual'):
+                capsules = []
+                for element in link.findall(tag):
+                    geometry = element.find('geometry')
+                    if geometry is None:
+                        raise ValueError('<%s> without <geometry>' % tag)
+                    capsule = _shape_capsule(geometry, _origin(element))
+                    if capsule is not None:
+                        capsules.append(capsule)
+                if capsules:
+                    result[name] = capsules
+                    break
+        except (TypeError, ValueError) as error:
+            raise CapsuleError('link %r: %s' % (name, error)) from None
+    return result
+
+
+class ArmCapsules:
+    """The capsules of one Baxter arm, posed for batches of its 7 joint angles.
+
+    Args:
+        description: a baxter_description.Description.
+        urdf_text: the same description's URDF text (for its shapes).
+        side: 'left' or 'right'.
+
+    Attributes:
+        links: the link name of each capsule (C of them).
+        radii: (C,) capsule radii (m).
+        half_lengths: (C,) half the length of each capsule's segment (m).
+        reach: (C, 7) bound on how far (m) any point of each capsule's segment is from each arm
+            joint's axis, whatever the angles (0 for joints after its link): a capsule's segment
+            moves at most reach @ |dq| for a joint-space motion dq along a straight line.
+
+    Raises:
+        CapsuleError: an arm link below the mount has no primitive shape, or a joint that is
+            not one of the arm's 7 moves it.
+    """
+
+    def __init__(self, description, urdf_text, side):
+        self.side = side
+        names = bd.arm_joint_names(side)
+        mount = '%s_arm_mount' % side
+        self._mount = description.transform({}, mount)
+        shapes = link_capsules(urdf_text)
+        # Frames: 0 the mount, 1 + j the child link of arm joint j; every other link below the
+        # mount sits at a fixed transform from one of them (prismatic joints at mid-travel).
+        self._origins = np.empty((7, 4, 4))
+        self._axes = np.empty((7, 3))
+        frame_of = {mount: (0, np.eye(4), 0.0)}   # link -> (frame, link-in-frame, radius growth)
+        pending = [j for j in description.joints.values() if j.parent != j.child]
+        while True:
+            ready = [j for j in pending if j.parent in frame_of and j.child not in frame_of]
+            if not ready:
+                break
+            for joint in ready:
+                frame, pose, grow = frame_of[joint.parent]
+                if joint.type in ('revolute', 'continuous'):
+                    if joint.name not in names:
+                        raise CapsuleError('joint %r moves the arm but is not one of %s'
+                                           % (joint.name, names))
+                    j = names.index(joint.name)
+                    if frame != j:
+                        raise CapsuleError('joint %r is not after joint %r in the chain'
+                                           % (joint.name, names[j - 1] if j else mount))
+                    self._origins[j], self._axes[j] = pose @ joint.origin, joint.axis
+                    frame_of[joint.child] = (j + 1, np.eye(4), grow)
+                    continue
+                step = joint.origin.copy()
+                if joint.type == 'prismatic':
+                    step[:3, 3] += step[:3, :3] @ joint.axis * (joint.lower + joint.upper) / 2.0
+                    grow += (joint.upper - joint.lower) / 2.0
+                frame_of[joint.child] = (frame, pose @ step, grow)
+        missing = [n for n in names if description.joints[n].child not in frame_of]
+        if missing:
+            raise CapsuleError('arm joints %s are not below %r' % (missing, mount))
+        links, frames, ends, radii = [], [], [], []
+        for link, (frame, pose, grow) in frame_of.items():
+            for (end_1, end_2), radius in shapes.get(link, []):
+                links.append(link)
+                frames.append(frame)
+                ends.append([pose[:3, :3] @ end + pose[:3, 3] for end in (end_1, end_2)])
+                radii.append(radius + grow)
+        if not links:
+            raise CapsuleError('no arm link below %r has a primitive shape' % mount)
+        self.links = links
+        self.radii = np.array(radii)
+        self._frames = np.array(frames)
+        # (C, 4, 2): each segment's two ends as homogeneous columns in its frame.
+        self._ends = np.concatenate([np.array(ends), np.ones((len(ends), 2, 1))],
+                                    axis=2).transpose(0, 2, 1).copy()
+        self.half_lengths = np.linalg.norm(np.subtract(*np.array(ends).transpose(1, 0, 2)),
+                                           axis=1) / 2.0
+        self.reach = self._reach(np.array(ends))
+        kx = np.array([[[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]]
+                       for a in self._axes])
+        self._k, self._k2 = kx, kx @ kx
+
+    def _reach(self, ends):
+        """Return the (C, 7) reach bound: from joint j's axis to a point in frame f > j, at most
+        the distance along the chain's origins j+1 .. f-1 plus the point's distance from frame
+        f's origin (measured from frame f's own axis when f = j + 1, which is exact)."""
+        offsets = np.linalg.norm(self._origins[:, :3, 3], axis=1)  # joint j's origin in frame j
+        reach = np.zeros((len(ends), 7))
+        for c, frame in enumerate(self._frames):
+            for j in range(frame):   # joints 0 .. frame-1 move frame `frame`
+                if j == frame - 1:
+                    radial = ends[c] - np.outer(ends[c] @ self._axes[j], self._axes[j])
+                    reach[c, j] = np.linalg.norm(radial, axis=1).max()
+                else:
+                    reach[c, j] = offsets[j + 1:frame].sum() + \
+                        np.linalg.norm(ends[c], axis=1).max()
+        return reach
+
+    def frames(self, angles):
+        """Return (M, 8, 4, 4): the mount and each arm joint's child link in the base frame, for
+        (M, 7) joint angles (rad, puppet order s0 .. w2)."""
+        angles = np.asarray(angles, np.float64)
+        s, c = np.sin(angles)[..., None, None], np.cos(angles)[..., None, None]
+        turn = np.zeros(angles.shape + (4, 4))
+        turn[..., :3, :3] = np.eye(3) + s * self._k + (1.0 - c) * self._k2
+        turn[..., 3, 3] = 1.0
+        local = self._origins @ turn                      # (M, 7, 4, 4)
+        frames = np.empty(angles.shape[:-1] + (8, 4, 4))
+        frames[:, 0] = self._mount
+        for j in range(7):
+            frames[:, j + 1] = frames[:, j] @ local[:, j]
+        return frames
+
+    def segments(self, angles):
+        """Return (M, C, 3, 2): both ends (m, base frame; last axis: end 1, end 2) of every
+        capsule's segment for (M, 7) joint angles (rad)."""
+        return self.frames(angles)[:, self._frames, :3, :] @ self._ends

@@ -1,0 +1,148 @@
+"""How far capsules (segment + radius) are from shapes (boxes, spheres, cylinders), vectorised.
+
+A clearance is signed: the distance between a capsule and a shape when they are apart, at most 0
+when they touch or overlap (then minus how deep the deepest point of the capsule's segment lies
+in the shape, less the capsule's radius). Exact for boxes and spheres. For a cylinder, a lower
+bound: the larger of the clearances from the capsule around its axis (its radius, rounded ends)
+and from the slab between its cap planes; exact beside its side and over its caps, it can be
+short by up to the cylinder's radius near a rim (a cylinder zone may stop the arm that much
+early there). Every clearance here (and the quicker bound used for pairs far apart) moves by at
+most d when no point of the segment moves more than d, which is what makes a check between
+sampled configurations sound (world.zones).
+
+Pure numpy, no ROS. The code works on arrays with the x, y, z components first and keeps the
+number of numpy calls low: with a few dozen capsules, per-call overhead is the cost.
+"""
+import numpy as np
+
+from robopuppet.world import shapes as shape_files
+
+TOUCH_M = 1e-9  # below this a segment is taken to reach the box (and is measured inside)
+
+
+def _slopes(t, a, d, h):
+    """Return half the slope of the squared distance to the box at (K, N) points t."""
+    total = 0.0
+    for k in range(3):
+        point = a[k] + t * d[k]
+        total = total + d[k] * (point - np.minimum(np.maximum(point, -h[k]), h[k]))
+    return total
+
+
+def segment_box(a, d, h):
+    """Return the least signed distance (m) from a point of each segment to a centred box.
+
+    Args:
+        a: (3, N) segment starts in the box's frame; d: (3, N) from start to end.
+        h: (3, N) the box's half sizes (0 along an axis: a flat box, a line or a point).
+    Returns:
+        (N,) the distance between segment and box when they are apart, else the signed
+        distance (negative inside) of the segment's deepest point.
+    """
+    moving = d != 0.0
+    step = np.where(moving, d, 1.0)
+    n = a.shape[1]
+    # The squared distance along the segment is convex, piecewise quadratic between the
+    # crossings of the face planes; its slope is piecewise linear and rises, so its zero lies
+    # between the last crossing (or end) where the slope is <= 0 and the first where >= 0.
+    t = np.concatenate([np.where(moving, (h - a) / step, 0.0),
+                        np.where(moving, (-h - a) / step, 0.0), np.zeros((1, n)),
+                        np.ones((1, n))])
+    t = np.minimum(np.maximum(t, 0.0), 1.0)
+    slope = _slopes(t, a, d, h)
+    down, up = slope <= 0.0, slope >= 0.0
+    low, high = np.where(down, t, 0.0).max(axis=0), np.where(up, t, 1.0).min(axis=0)
+    slope_low = np.where(down, slope, -np.inf).max(axis=0)
+    slope_high = np.where(up, slope, np.inf).min(axis=0)
+    with np.errstate(invalid='ignore', divide='ignore'):
+        share = -slope_low / (slope_high - slope_low)   # where the slope is 0, linearly
+    # No slope <= 0: the start is nearest; none >= 0: the end; both 0: anywhere between.
+    share[np.isinf(slope_low) | ~(share >= 0.0)] = 0.0
+    share[np.isinf(slope_high)] = 1.0
+    point = a + (low + share * (high - low)) * d
+    outside = point - np.minimum(np.maximum(point, -h), h)
+    gap = np.sqrt(outside[0] ** 2 + outside[1] ** 2 + outside[2] ** 2)
+    touching = gap <= TOUCH_M   # rounding leaves about 1e-16 where segment and box meet
+    if touching.any():
+        gap[touching] = np.minimum(gap[touching], _deepest(a[:, touching], d[:, touching],
+                                                           h[:, touching]))
+    return gap
+
+
+def _deepest(a, d, h):
+    """Return the least signed distance inside a box along segments that reach into it: the
+    minimum over t of max_k(|p_k(t)| - h_k), at an end or where two of its lines cross."""
+    slopes, offsets = np.concatenate([d, -d]), np.concatenate([a - h, -a - h])   # (6, N)
+    with np.errstate(divide='ignore', invalid='ignore'):
+        cross = (offsets[:, None] - offsets[None, :]) / (slopes[None, :] - slopes[:, None])
+    n = a.shape[1]
+    t = np.concatenate([np.zeros((1, n)), np.ones((1, n)), cross.reshape(36, n)])
+    t = np.clip(np.nan_to_num(t, nan=0.0, posinf=1.0, neginf=0.0), 0.0, 1.0)
+    points = a[:, None] + t[None] * d[:, None]                                   # (3, 38, N)
+    return np.min(np.max(np.abs(points) - h[:, None], axis=0), axis=0)
+
+
+class ShapeSet:
+    """Shapes (world.shapes.Shape: box, sphere, cylinder) to measure capsules against.
+
+    A box is its own box; a sphere is a point grown by its radius; a cylinder is its axis
+    segment grown by its radius (a capsule, which holds it) and also its slab between the cap
+    planes: the clearance is the larger of the two, both lower bounds.
+    """
+
+    def __init__(self, shapes):
+        self.shapes = list(shapes)
+        self.names = [s.name for s in self.shapes]
+        count = len(self.shapes)
+        self._rotation = np.zeros((count, 3, 3))   # base -> shape frame
+        self._offset = np.zeros((count, 3, 1))     # the shape's centre in its own frame's axes
+        self._half = np.zeros((count, 3, 1))
+        self._grow = np.zeros((count, 1, 1))
+        self._slab = np.zeros(count)
+        for i, shape in enumerate(self.shapes):
+            pose = shape_files.shape_pose(shape)
+            self._rotation[i] = pose[:3, :3].T
+            self._offset[i, :, 0] = pose[:3, :3].T @ pose[:3, 3]
+            if shape.type == 'box':
+                self._half[i, :, 0] = np.array(shape.size) / 2.0
+            elif shape.type == 'sphere':
+                self._grow[i] = shape.radius
+            else:
+                self._half[i, 2] = self._slab[i] = shape.length / 2.0
+                self._grow[i] = shape.radius
+        self._is_cylinder = np.array([s.type == 'cylinder' for s in self.shapes])
+
+    def clearance(self, segments, half_lengths, radii, needed):
+        """Return (Z, M, C) signed clearances (m) of capsules from every shape: exact (see
+        above) where a quick bound is at most `needed`, that lower bound elsewhere.
+
+        Args:
+            segments: (M, C, 3, 2) capsule segment ends in the base frame (world.arm_capsules).
+            half_lengths, radii: (C,) of the capsules (m).
+            needed: a clearance (m) beyond which a lower bound will do, broadcastable to
+                (Z, M, C) (e.g. how far each capsule may move).
+        """
+        m, c = segments.shape[:2]
+        middles = (segments[..., 0] + segments[..., 1]).reshape(m * c, 3).T / 2.0   # (3, MC)
+        local = self._rotation @ middles - self._offset                          # (Z, 3, MC)
+        beyond = np.maximum(np.abs(local) - self._half, 0.0)
+        gap = np.sqrt((beyond * beyond).sum(axis=1)).reshape(-1, m, c) - \
+            self._grow[:, :, :1] - half_lengths - radii
+        z, i, j = np.nonzero(gap <= needed)
+        if len(z):
+            ends = segments[i, j]                                                 # (N, 3, 2)
+            start = np.einsum('nkj,nj->kn', self._rotation[z], ends[:, :, 0]) - \
+                self._offset[z, :, 0].T
+            span = np.einsum('nkj,nj->kn', self._rotation[z], ends[:, :, 1] - ends[:, :, 0])
+            exact = segment_box(start, span, self._half[z, :, 0].T)
+            cylinder = self._is_cylinder[z]
+            if cylinder.any():
+                low = np.minimum(np.abs(start[2]), np.abs(start[2] + span[2]))
+                across = start[2] * (start[2] + span[2]) <= 0.0
+                slab = np.where(across, 0.0, low) - self._slab[z]
+                exact = np.where(cylinder, np.maximum(exact - self._grow[z, 0, 0], slab),
+                                 exact - self._grow[z, 0, 0])
+            else:
+                exact = exact - self._grow[z, 0, 0]
+            gap[z, i, j] = np.maximum(gap[z, i, j], exact - radii[j])
+        return gap

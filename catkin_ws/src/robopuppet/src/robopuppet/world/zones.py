@@ -1,0 +1,209 @@
+"""Keep-out zones: the arm commands that would take any part of a Baxter arm into one are cut.
+
+A zone file (config/zones.yaml; docs/zones.md) is a shape file (world.shapes): `frame: base`
+and a `shapes` list of named boxes, spheres and cylinders in Baxter's base frame.
+
+ZoneGuard.limit(q_from, q_to) checks the whole straight joint-space motion from one command to
+the next, not only its end, for every capsule of the arm (world.arm_capsules) against every
+zone (world.clearance), and returns q_to, or the last configuration on the motion that is
+proven clear. The guarantee is for the continuous motion: a configuration checked at s on the
+motion q(s) = q_from + s (q_to - q_from), s in 0..1, covers the interval s +- w/2 around it when
+each capsule's clearance there exceeds how far its segment can move over w/2, bounded by
+ArmCapsules.reach @ |q_to - q_from| x w/2. Intervals not proven clear are split (SPLIT ways)
+until their motion bound is below RESOLUTION_M; the first one still not proven ends the motion
+at its start. A cut stops the arm MARGIN_M outside the zone, not at it.
+
+At a zone already (within NEAR_M, as after a cut) or inside it (a zone file can change
+under the arm): such a (capsule, zone) pair may not end a command nearer (deeper) than it
+started, and on the way its clearance may dip at most SLACK_M (never into the zone from outside);
+otherwise the arm stays at q_from. So the arm can always move away, each command ends no nearer
+than it started, and depth cannot creep over many commands. Pure numpy, no ROS.
+"""
+import collections
+
+import numpy as np
+import yaml
+
+from robopuppet.world import shapes
+from robopuppet.world.clearance import ShapeSet
+
+RESOLUTION_M = 0.001    # the motion bound (m) of the smallest interval checked
+MARGIN_M = 0.002        # a cut command stops the arm this far (and up to RESOLUTION_M more)
+                        # outside the zone ...
+SLACK_M = 0.001         # ... so that from there a motion may dip this much on its way out
+NEAR_M = MARGIN_M + RESOLUTION_M + SLACK_M   # a pair this near at the start is at the zone
+SPLIT = 8               # an interval not proven clear is split into this many
+REFINE_AT_ONCE = 8      # intervals split in one pass at most
+FIRST_STEP_M = 0.02     # the sweep starts with intervals of at most this motion bound (m) ...
+MAX_FIRST = 64          # ... but no more than this many
+MAX_CHECKED = 4096      # configurations checked per call at most (then the rest is refused)
+
+Hit = collections.namedtuple('Hit', 'zone link')
+Hit.__doc__ = 'Why a motion was cut: the zone name and the arm link (URDF name) that would enter.'
+
+
+class ZoneFileError(shapes.ShapeFileError):
+    """A zone file cannot be read or is not a shape file; the message names file and entry."""
+
+
+def parse_zones(text, where='the zone file'):
+    """Return the Shapes of a zone file's YAML text (an empty file: no zones).
+
+    Raises:
+        ZoneFileError: not YAML, or an entry not in the format (the message names it).
+    """
+    try:
+        document = yaml.safe_load(text)
+    except yaml.YAMLError as error:
+        raise ZoneFileError('%s is not YAML: %s' % (where, error)) from None
+    try:
+        if document is None:
+            return []
+        if not isinstance(document, dict):
+            raise shapes.ShapeFileError('must be a mapping (frame, shapes)')
+        unknown = sorted(set(document) - {'frame', 'shapes'})
+        if unknown:
+            raise shapes.ShapeFileError('unknown keys %s' % unknown)
+        shapes.check_frame(document, 'the file')
+        return shapes.parse_shapes(document, 'the file')
+    except shapes.ShapeFileError as error:
+        raise ZoneFileError('%s: %s' % (where, error)) from None
+
+
+def load_zones(path):
+    """Return the Shapes of a zone file; raise ZoneFileError naming it and the entry."""
+    try:
+        with open(path) as stream:
+            text = stream.read()
+    except OSError as error:
+        raise ZoneFileError('cannot read zone file %s: %s' % (path, error)) from None
+    return parse_zones(text, path)
+
+
+class ZoneGuard:
+    """Cut arm commands that would take one arm into a keep-out zone.
+
+    Args:
+        capsules: the arm's world.arm_capsules.ArmCapsules.
+        zones: the zones, world.shapes.Shapes.
+    """
+
+    def __init__(self, capsules, zones):
+        self.capsules = capsules
+        self.zones = ShapeSet(zones)
+        self.names = self.zones.names
+        self.checked = 0   # configurations checked by the last call (for benchmarks)
+        self._stuck = (None, None)   # slide's last (question, answer)
+
+    def _clearance(self, angles, needed):
+        """Return (Z, M, C) clearances (m) at (M, 7) angles, exact where below `needed`."""
+        arm = self.capsules
+        return self.zones.clearance(arm.segments(angles), arm.half_lengths, arm.radii, needed)
+
+    def clearance(self, angles):
+        """Return the (Z, C) clearances (m) of every capsule from every zone at 7 angles."""
+        return self._clearance(np.asarray(angles, np.float64)[None], np.inf)[:, 0]
+
+    def limit(self, q_from, q_to):
+        """Return (q_out, hit): q_to when the motion from q_from keeps the arm out of every zone,
+        else the last configuration on it proven clear (q_from at worst) and the Hit (zone,
+        link) that stopped it; hit is None when q_out is q_to.
+
+        Args:
+            q_from: the 7 angles (rad, s0 .. w2) of the last command sent.
+            q_to: the 7 angles of the next command.
+        """
+        q_from, q_to = np.asarray(q_from, np.float64), np.asarray(q_to, np.float64)
+        self.checked = 0
+        if not self.names:
+            return list(q_to), None
+        motion = q_to - q_from
+        speed = self.capsules.reach @ np.abs(motion)          # (C,) m per unit of s
+        count = int(min(max(np.ceil(speed.max() / FIRST_STEP_M), 1), MAX_FIRST))
+        # Also the finest step from the start: an arm held at a zone's boundary is settled at
+        # once, without splitting its way down to it.
+        s = np.union1d(np.linspace(0.0, 1.0, count + 1),
+                       [min(RESOLUTION_M / max(speed.max(), 1e-12), 1.0)])
+        raw = self._clearance(q_from + s[:, None] * motion,
+                              speed * np.diff(s).max() + NEAR_M)
+        self.checked = len(s)
+        start = raw[:, 0]                                    # (Z, C)
+        near = start < NEAR_M                                 # at (or in) a zone already
+        floor = np.where(near, start - SLACK_M, MARGIN_M)    # the clearance to keep
+        floor[(start > 0.0) & (floor < 0.0)] = 0.0           # never into a zone from outside
+        closer = np.where(near, raw[:, -1] - start, np.inf)
+        if closer.min() < 0.0:   # nearer at the end than at the start: stay
+            z, c = np.unravel_index(np.argmin(closer), closer.shape)
+            return list(q_from), Hit(self.names[z], self.capsules.links[c])
+        end, pair = self._sweep(q_from, motion, speed, s, raw - floor[:, None], floor[:, None])
+        if near.any() and 0.0 < end < 1.0:   # cut further on: still no nearer there, or stay
+            final = self._clearance((q_from + end * motion)[None], np.inf)[:, 0]
+            closer = np.where(near, final - start, np.inf)
+            if closer.min() < 0.0:
+                end, pair = 0.0, np.unravel_index(np.argmin(closer), closer.shape)
+        if end == 1.0:
+            return list(q_to), None
+        z, c = pair
+        return list(q_from + end * motion), Hit(self.names[z], self.capsules.links[c])
+
+    def slide(self, q_from, q_to):
+        """Return (q_out, hit) like limit, but when limit cannot move at all, move as far as
+        it can along the joints one at a time (largest step first) and then go straight to
+        where that led, as limit allows: an arm held at a zone's boundary follows the parts of
+        the next command that lead along or away from the zone. The returned motion is always
+        the straight one from q_from, checked by limit.
+        """
+        asked = (tuple(q_from), tuple(q_to))
+        if asked == self._stuck[0]:   # pushing on at a zone: the same answer as last time
+            return self._stuck[1]
+        q_out, hit = self.limit(q_from, q_to)
+        if hit is None or list(q_out) != list(q_from):
+            return q_out, hit
+        start = np.asarray(q_from, np.float64)
+        step, reached = np.asarray(q_to, np.float64) - start, start.copy()
+        for j in np.argsort(-np.abs(step)):
+            if step[j] != 0.0:
+                alone = reached.copy()
+                alone[j] += step[j]
+                reached = np.asarray(self.limit(reached, alone)[0])
+        if not np.array_equal(reached, start):
+            q_out, _ = self.limit(start, reached)
+        self._stuck = (asked, (q_out, hit))
+        return q_out, hit
+
+    def _sweep(self, q_from, motion, speed, s, gaps, floor):
+        """Return (end, (zone, capsule)): the motion is proven clear for s in [0, end]; of the
+        pairs not proven clear in the first interval that is not, the nearest (None when end
+        is 1).
+
+        s: (M,) checked points in order, gaps: (Z, M, C) their clearances above the floor. An
+        interval between neighbours is clear when, for every pair, the clearances at its ends
+        add up to more than the capsule can move across it; the first one that is not is split
+        until its motion bound is below RESOLUTION_M, and the motion ends at its start.
+        """
+        longest = speed.max()
+        while True:
+            width = np.diff(s)
+            short = gaps[:, :-1] + gaps[:, 1:] - speed * width[:, None]     # (Z, M-1, C)
+            open_ = np.flatnonzero((short <= 0.0).any(axis=(0, 2)))
+            if not len(open_):
+                return 1.0, None
+            i = open_[0]
+            if longest * width[i] <= RESOLUTION_M or self.checked >= MAX_CHECKED:
+                failed = np.where(short[:, i] <= 0.0, gaps[:, i] + gaps[:, i + 1], np.inf)
+                pair = np.unravel_index(np.argmin(failed), failed.shape)  # the nearest of them
+                return float(s[i]), pair
+            # Split the first few open intervals at once (up to the first one already fine):
+            # a pass costs about the same for one interval or many.
+            fine = longest * width[open_] <= RESOLUTION_M
+            chosen = open_[:min(REFINE_AT_ONCE, int(np.argmax(fine)) if fine.any()
+                                else len(open_))]
+            new = np.concatenate([np.linspace(s[k], s[k + 1], SPLIT + 1)[1:-1] for k in chosen]
+                                 + [[s[i] + RESOLUTION_M / longest]])
+            new = np.unique(new)
+            more = self._clearance(q_from + new[:, None] * motion,
+                                   speed * width[chosen].max() / SPLIT + NEAR_M) - floor
+            self.checked += len(new)
+            order = np.argsort(np.concatenate([s, new]), kind='stable')
+            s = np.concatenate([s, new])[order]
+            gaps = np.concatenate([gaps, more], axis=1)[:, order]
