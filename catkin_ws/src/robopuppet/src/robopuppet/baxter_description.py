@@ -79,8 +79,16 @@ def neutral_pose(side):
     return {'%s_%s' % (side, s): NEUTRAL_POSE[s] for s in ARM_JOINT_SUFFIXES}
 
 
-def _floats(text, default):
-    return [float(v) for v in (text or default).split()]
+def floats(text, default, count=None):
+    """Return the numbers of a URDF attribute's text (default's when it is absent).
+
+    Raises:
+        ValueError: not numbers, or not `count` of them (when count is given).
+    """
+    values = [float(v) for v in (text or default).split()]
+    if count is not None and len(values) != count:
+        raise ValueError('expected %d numbers, got %r' % (count, text))
+    return values
 
 
 def rpy_matrix(roll, pitch, yaw):
@@ -100,17 +108,23 @@ def _transform(rotation, xyz):
     return t
 
 
+def origin_matrix(element):
+    """Return the 4x4 pose of a URDF element's <origin> in its frame (identity when absent)."""
+    origin = element.find('origin')
+    xyz = floats(origin.get('xyz') if origin is not None else None, '0 0 0', 3)
+    rpy = floats(origin.get('rpy') if origin is not None else None, '0 0 0', 3)
+    return _transform(rpy_matrix(*rpy), xyz)
+
+
 def _parse_joint(element):
     name = element.get('name')
     kind = element.get('type')
     try:
         parent = element.find('parent').get('link')
         child = element.find('child').get('link')
-        origin = element.find('origin')
-        xyz = _floats(origin.get('xyz') if origin is not None else None, '0 0 0')
-        rpy = _floats(origin.get('rpy') if origin is not None else None, '0 0 0')
+        origin = origin_matrix(element)
         axis = element.find('axis')
-        axis = np.array(_floats(axis.get('xyz') if axis is not None else None, '1 0 0'))
+        axis = np.array(floats(axis.get('xyz') if axis is not None else None, '1 0 0', 3))
         lower = upper = velocity = effort = None
         if kind in ('revolute', 'prismatic'):
             limit = element.find('limit')
@@ -124,7 +138,7 @@ def _parse_joint(element):
         raise DescriptionError('joint %r: %s' % (name, error)) from error
     if kind not in ('revolute', 'prismatic', 'fixed', 'continuous'):
         raise DescriptionError('joint %r: unsupported type %r' % (name, kind))
-    return Joint(name, kind, parent, child, _transform(rpy_matrix(*rpy), xyz),
+    return Joint(name, kind, parent, child, origin,
                  axis / np.linalg.norm(axis), lower, upper, velocity, effort, mimic)
 
 

@@ -19,30 +19,13 @@ class ShapeError(ValueError):
     """A visual of the robot description cannot be drawn."""
 
 
-def _floats(text, default, count):
-    values = [float(v) for v in (text or default).split()]
-    if len(values) != count:
-        raise ValueError('expected %d numbers, got %r' % (count, text))
-    return values
-
-
-def _origin(element):
-    origin = element.find('origin')
-    xyz = _floats(origin.get('xyz') if origin is not None else None, '0 0 0', 3)
-    rpy = _floats(origin.get('rpy') if origin is not None else None, '0 0 0', 3)
-    pose = np.eye(4)
-    pose[:3, :3] = bd.rpy_matrix(*rpy)
-    pose[:3, 3] = xyz
-    return pose
-
-
 def _colour(visual, named):
     material = visual.find('material')
     if material is None:
         return DEFAULT_COLOUR
     colour = material.find('color')
     if colour is not None:
-        return tuple(_floats(colour.get('rgba'), '', 4)[:3])
+        return tuple(bd.floats(colour.get('rgba'), '', 4)[:3])
     return named.get(material.get('name'), DEFAULT_COLOUR)
 
 
@@ -50,7 +33,7 @@ def _geometry_mesh(geometry, colour):
     """Return the mesh of a URDF <geometry>, or None for a mesh file (not drawn)."""
     for shape in geometry:
         if shape.tag == 'box':
-            return meshes.box(_floats(shape.get('size'), '', 3), colour)
+            return meshes.box(bd.floats(shape.get('size'), '', 3), colour)
         if shape.tag == 'cylinder':
             return meshes.cylinder(float(shape.get('radius')), float(shape.get('length')),
                                    colour)
@@ -77,7 +60,7 @@ def link_meshes(urdf_text):
     for material in root.findall('material'):
         colour = material.find('color')
         if colour is not None:
-            named[material.get('name')] = tuple(_floats(colour.get('rgba'), '', 4)[:3])
+            named[material.get('name')] = tuple(bd.floats(colour.get('rgba'), '', 4)[:3])
     result = {}
     for link in root.findall('link'):
         parts = []
@@ -88,7 +71,7 @@ def link_meshes(urdf_text):
                     raise ValueError('no <geometry>')
                 mesh = _geometry_mesh(geometry, _colour(visual, named))
                 if mesh is not None:
-                    parts.append(meshes.transformed(mesh, _origin(visual)))
+                    parts.append(meshes.transformed(mesh, bd.origin_matrix(visual)))
             except (TypeError, ValueError) as error:
                 raise ShapeError('link %r: visual: %s' % (link.get('name'), error)) from None
         if parts:

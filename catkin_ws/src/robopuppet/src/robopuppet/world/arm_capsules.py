@@ -24,23 +24,6 @@ class CapsuleError(ValueError):
     """The robot description has no usable shapes for an arm link."""
 
 
-def _floats(text, default, count):
-    values = [float(v) for v in (text or default).split()]
-    if len(values) != count:
-        raise ValueError('expected %d numbers, got %r' % (count, text))
-    return values
-
-
-def _origin(element):
-    origin = element.find('origin')
-    xyz = _floats(origin.get('xyz') if origin is not None else None, '0 0 0', 3)
-    rpy = _floats(origin.get('rpy') if origin is not None else None, '0 0 0', 3)
-    pose = np.eye(4)
-    pose[:3, :3] = bd.rpy_matrix(*rpy)
-    pose[:3, 3] = xyz
-    return pose
-
-
 def _shape_capsule(geometry, pose):
     """Return ((end 1, end 2) in the link frame, radius) of a capsule holding a geometry, or None
     for a mesh."""
@@ -49,7 +32,7 @@ def _shape_capsule(geometry, pose):
             radius, half = float(shape.get('radius')), float(shape.get('length')) / 2.0
             axis = pose[:3, 2] * half
         elif shape.tag == 'box':
-            size = np.array(_floats(shape.get('size'), '', 3))
+            size = np.array(bd.floats(shape.get('size'), '', 3))
             longest = int(np.argmax(size))
             radius = float(np.hypot(*np.delete(size, longest))) / 2.0
             axis = pose[:3, longest] * size[longest] / 2.0
@@ -84,7 +67,7 @@ def link_capsules(urdf_text):
                     geometry = element.find('geometry')
                     if geometry is None:
                         raise ValueError('<%s> without <geometry>' % tag)
-                    capsule = _shape_capsule(geometry, _origin(element))
+                    capsule = _shape_capsule(geometry, bd.origin_matrix(element))
                     if capsule is not None:
                         capsules.append(capsule)
                 if capsules:
