@@ -3,10 +3,10 @@
 
 Usage: benchmarks/bench_zones.py [--commands N] [--seed S]   (after `. tools/env.sh`; no ROS)
 
-Each case feeds ZoneGuard.limit a stream of commands as arm_X would at 100 Hz, from the last
-command sent (the cut one when cut) to the next, with config/zones.yaml (the patient's head, body
-and bed) and prints the wall time per command, p50 / p99 / max, and how many arm configurations
-each check needed. Cases:
+Each case feeds ZoneGuard.limit (the last one ZoneGuard.slide) a stream of commands as arm_X
+would at 100 Hz, from the last command sent (the cut one when cut) to the next, with
+config/zones.yaml (the patient's head, body and bed) and prints the time per command, p50 / p99 /
+max, and how many arm configurations each check needed. Cases:
   clear      the puppet moved smoothly (joints at up to ~1 rad/s) from a pose 15 cm or more
              from every zone (it may come near them, or be held by one)
   teleop     the same from the SDK's neutral pose (5 cm from the head zone: mostly held there)
@@ -14,9 +14,12 @@ each check needed. Cases:
   pushing    the gripper driven down into the head zone every command: held at the boundary
   full speed every joint at its URDF velocity limit for one 10 ms command, near the zones
   big jumps  0.5 rad on every joint at once (no teleop command moves this far: an upper bound)
+  sliding    like 'near head' but through ZoneGuard.slide, as arm_X checks: held at a zone, a
+             command also tries the joints one at a time (configurations: its last check's)
 The target is p99 under 0.5 ms for the teleop cases on the 2-core robot host. CPU time (this
 thread's) is printed beside wall time: on a loaded machine the wall time also holds the waits
-for a core.
+for a core, so compare runs made under the same load average (printed at start and end), or
+interleave the runs to compare.
 """
 import argparse
 import os
@@ -49,17 +52,18 @@ def limits(side):
             np.array([x.velocity for x in lims]))
 
 
-def run(checker, start, targets, step=None):
+def run(checker, start, targets, step=None, check=None):
     """Feed targets from start as arm_X would (each command at most `step` rad per joint from
-    the last one sent, like its speed budget); return (CPU times ms, wall times ms,
-    configurations, cuts)."""
+    the last one sent, like its speed budget) to check (default checker.limit); return (CPU
+    times ms, wall times ms, configurations, cuts)."""
+    check = check or checker.limit
     cpu, wall, checked, cuts = [], [], [], 0
     last = np.asarray(start, np.float64)
     for target in targets:
         if step is not None:
             target = last + np.clip(target - last, -step, step)
         begin, begin_cpu = time.perf_counter(), time.thread_time()
-        out, hit = checker.limit(last, target)
+        out, hit = check(last, target)
         cpu.append((time.thread_time() - begin_cpu) * 1e3)
         wall.append((time.perf_counter() - begin) * 1e3)
         checked.append(checker.checked)
@@ -165,6 +169,9 @@ def main():
     report('big jumps', single(left, [
         (q, np.clip(q + rng.choice([-0.5, 0.5], 7), lower, upper))
         for q in rng.uniform(lower, upper, size=(min(args.commands, 1000), 7))]))
+    report('sliding', run(left, near, smooth_path(rng, near, args.commands, 'left'), step,
+                          left.slide))
+    print('load average at the end %.1f (1 min), %.1f (5 min)' % os.getloadavg()[:2])
     return 0
 
 

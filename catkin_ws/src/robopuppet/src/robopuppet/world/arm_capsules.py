@@ -137,7 +137,9 @@ class ArmCapsules:
         if missing:
             raise CapsuleError('arm joints %s are not below %r' % (missing, mount))
         links, frames, ends, radii = [], [], [], []
-        for link, (frame, pose, grow) in frame_of.items():
+        # Capsules in frame order (the links of one frame as found), so that segments() can
+        # pose each frame's capsules with one product and join them in order.
+        for link, (frame, pose, grow) in sorted(frame_of.items(), key=lambda item: item[1][0]):
             for (end_1, end_2), radius in shapes.get(link, []):
                 links.append(link)
                 frames.append(frame)
@@ -148,15 +150,22 @@ class ArmCapsules:
         self.links = links
         self.radii = np.array(radii)
         self._frames = np.array(frames)
-        # (C, 4, 2): each segment's two ends as homogeneous columns in its frame.
-        self._ends = np.concatenate([np.array(ends), np.ones((len(ends), 2, 1))],
-                                    axis=2).transpose(0, 2, 1).copy()
+        # Per frame with capsules: its capsules' ends as homogeneous columns (end 1, end 2, ...).
+        columns = np.concatenate([np.array(ends), np.ones((len(ends), 2, 1))], axis=2)
+        self._ends = {f: columns[self._frames == f].reshape(-1, 4).T.copy()
+                      for f in sorted(set(frames))}
         self.half_lengths = np.linalg.norm(np.subtract(*np.array(ends).transpose(1, 0, 2)),
                                            axis=1) / 2.0
         self.reach = self._reach(np.array(ends))
-        kx = np.array([[[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]]
-                       for a in self._axes])
-        self._k, self._k2 = kx, kx @ kx
+        # Joint j's child frame in its parent's is origin_j @ turn(angle): Rodrigues' turn,
+        # I + sin K + (1 - cos) K^2, is fixed + sin by_sin + cos by_cos with these (7, 4, 4).
+        k = np.zeros((7, 4, 4))
+        k[:, :3, :3] = [[[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]]
+                        for a in self._axes]
+        self._fixed = self._origins @ (np.eye(4) + k @ k)
+        self._by_sin, self._by_cos = self._origins @ k, -(self._origins @ k @ k)
+        for table in (self._fixed, self._by_sin, self._by_cos):   # joint 0 from the base frame
+            table[0] = self._mount @ table[0]
 
     def _reach(self, ends):
         """Return the (C, 7) reach bound: from joint j's axis to a point in frame f > j, at most
@@ -174,22 +183,20 @@ class ArmCapsules:
                         np.linalg.norm(ends[c], axis=1).max()
         return reach
 
-    def frames(self, angles):
-        """Return (M, 8, 4, 4): the mount and each arm joint's child link in the base frame, for
-        (M, 7) joint angles (rad, puppet order s0 .. w2)."""
-        angles = np.asarray(angles, np.float64)
-        s, c = np.sin(angles)[..., None, None], np.cos(angles)[..., None, None]
-        turn = np.zeros(angles.shape + (4, 4))
-        turn[..., :3, :3] = np.eye(3) + s * self._k + (1.0 - c) * self._k2
-        turn[..., 3, 3] = 1.0
-        local = self._origins @ turn                      # (M, 7, 4, 4)
-        frames = np.empty(angles.shape[:-1] + (8, 4, 4))
-        frames[:, 0] = self._mount
-        for j in range(7):
-            frames[:, j + 1] = frames[:, j] @ local[:, j]
-        return frames
-
     def segments(self, angles):
         """Return (M, C, 3, 2): both ends (m, base frame; last axis: end 1, end 2) of every
         capsule's segment for (M, 7) joint angles (rad)."""
-        return self.frames(angles)[:, self._frames, :3, :] @ self._ends
+        angles = np.asarray(angles, np.float64)[..., None, None]
+        local = self._fixed + np.sin(angles) * self._by_sin + np.cos(angles) * self._by_cos
+        parts = []
+        if 0 in self._ends:   # capsules fixed to the mount (Baxter's arms have none)
+            fixed = self._mount[:3] @ self._ends[0]
+            parts.append(np.broadcast_to(fixed, local.shape[:1] + fixed.shape))
+        frame = local[:, 0, :3]   # (M, 3, 4): rows x, y, z of joint 0's child link in base
+        for f in range(1, 8):     # the chain: one product per joint, on all M at once
+            if f > 1:
+                frame = frame @ local[:, f - 1]
+            if f in self._ends:
+                parts.append(frame @ self._ends[f])
+        joined = np.concatenate(parts, axis=2)                             # (M, 3, 2 C)
+        return joined.reshape(len(joined), 3, -1, 2).transpose(0, 2, 1, 3)

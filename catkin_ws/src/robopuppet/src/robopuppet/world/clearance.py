@@ -20,15 +20,6 @@ from robopuppet.world import shapes as shape_files
 TOUCH_M = 1e-9  # below this a segment is taken to reach the box (and is measured inside)
 
 
-def _slopes(t, a, d, h):
-    """Return half the slope of the squared distance to the box at (K, N) points t."""
-    total = 0.0
-    for k in range(3):
-        point = a[k] + t * d[k]
-        total = total + d[k] * (point - np.minimum(np.maximum(point, -h[k]), h[k]))
-    return total
-
-
 def segment_box(a, d, h):
     """Return the least signed distance (m) from a point of each segment to a centred box.
 
@@ -39,29 +30,29 @@ def segment_box(a, d, h):
         (N,) the distance between segment and box when they are apart, else the signed
         distance (negative inside) of the segment's deepest point.
     """
-    moving = d != 0.0
-    step = np.where(moving, d, 1.0)
     n = a.shape[1]
     # The squared distance along the segment is convex, piecewise quadratic between the
     # crossings of the face planes; its slope is piecewise linear and rises, so its zero lies
     # between the last crossing (or end) where the slope is <= 0 and the first where >= 0.
-    t = np.concatenate([np.where(moving, (h - a) / step, 0.0),
-                        np.where(moving, (-h - a) / step, 0.0), np.zeros((1, n)),
-                        np.ones((1, n))])
-    t = np.minimum(np.maximum(t, 0.0), 1.0)
-    slope = _slopes(t, a, d, h)
+    step = np.where(d != 0.0, d, np.inf)    # a segment parallel to a face never crosses it: 0
+    t = np.empty((8, n))
+    t[:3], t[3:6], t[6], t[7] = (h - a) / step, (-h - a) / step, 0.0, 1.0
+    np.minimum(np.maximum(t, 0.0, out=t), 1.0, out=t)
+    point = a[:, None] + t * d[:, None]                                          # (3, 8, N)
+    slope = (d[:, None] * (point - np.minimum(np.maximum(point, -h[:, None]), h[:, None]))
+             ).sum(axis=0)                      # half the squared distance's slope, (8, N)
     down, up = slope <= 0.0, slope >= 0.0
     low, high = np.where(down, t, 0.0).max(axis=0), np.where(up, t, 1.0).min(axis=0)
     slope_low = np.where(down, slope, -np.inf).max(axis=0)
     slope_high = np.where(up, slope, np.inf).min(axis=0)
-    with np.errstate(invalid='ignore', divide='ignore'):
-        share = -slope_low / (slope_high - slope_low)   # where the slope is 0, linearly
-    # No slope <= 0: the start is nearest; none >= 0: the end; both 0: anywhere between.
-    share[np.isinf(slope_low) | ~(share >= 0.0)] = 0.0
-    share[np.isinf(slope_high)] = 1.0
+    # Where the slope is 0, linearly between them. No slope <= 0: the start is nearest (the
+    # span is infinite: 0); none >= 0: the end; both 0: anywhere between (0).
+    span = slope_high - slope_low
+    share = np.divide(-slope_low, span, out=np.zeros(n), where=(span > 0.0) & (span < np.inf))
+    share[slope_high == np.inf] = 1.0
     point = a + (low + share * (high - low)) * d
     outside = point - np.minimum(np.maximum(point, -h), h)
-    gap = np.sqrt(outside[0] ** 2 + outside[1] ** 2 + outside[2] ** 2)
+    gap = np.sqrt((outside * outside).sum(axis=0))
     touching = gap <= TOUCH_M   # rounding leaves about 1e-16 where segment and box meet
     if touching.any():
         gap[touching] = np.minimum(gap[touching], _deepest(a[:, touching], d[:, touching],
@@ -69,15 +60,26 @@ def segment_box(a, d, h):
     return gap
 
 
+def segment_point(a, d):
+    """Return the distance (m) from the origin to each segment, a (3, N) starts, d (3, N) from
+    start to end: segment_box for a box of size 0 (a sphere's centre), in fewer steps."""
+    length2 = (d * d).sum(axis=0)
+    t = np.divide(-(a * d).sum(axis=0), length2, out=np.zeros(a.shape[1]), where=length2 > 0.0)
+    point = a + np.minimum(np.maximum(t, 0.0), 1.0) * d
+    return np.sqrt((point * point).sum(axis=0))
+
+
 def _deepest(a, d, h):
     """Return the least signed distance inside a box along segments that reach into it: the
     minimum over t of max_k(|p_k(t)| - h_k), at an end or where two of its lines cross."""
     slopes, offsets = np.concatenate([d, -d]), np.concatenate([a - h, -a - h])   # (6, N)
-    with np.errstate(divide='ignore', invalid='ignore'):
-        cross = (offsets[:, None] - offsets[None, :]) / (slopes[None, :] - slopes[:, None])
+    rise = slopes[None, :] - slopes[:, None]
     n = a.shape[1]
-    t = np.concatenate([np.zeros((1, n)), np.ones((1, n)), cross.reshape(36, n)])
-    t = np.clip(np.nan_to_num(t, nan=0.0, posinf=1.0, neginf=0.0), 0.0, 1.0)
+    t = np.zeros((38, n))   # the ends, then where two lines cross (parallel ones: an end)
+    t[1] = 1.0
+    np.divide(offsets[:, None] - offsets[None, :], rise, out=t[2:].reshape(6, 6, n),
+              where=rise != 0.0)
+    np.minimum(np.maximum(t, 0.0, out=t), 1.0, out=t)
     points = a[:, None] + t[None] * d[:, None]                                   # (3, 38, N)
     return np.min(np.max(np.abs(points) - h[:, None], axis=0), axis=0)
 
@@ -111,6 +113,8 @@ class ShapeSet:
                 self._half[i, 2] = self._slab[i] = shape.length / 2.0
                 self._grow[i] = shape.radius
         self._is_cylinder = np.array([s.type == 'cylinder' for s in self.shapes])
+        self._is_point = np.array([s.type == 'sphere' for s in self.shapes])
+        self._half_rotation = self._rotation / 2.0   # takes a capsule's two ends' sum
 
     def clearance(self, segments, half_lengths, radii, needed):
         """Return (Z, M, C) signed clearances (m) of capsules from every shape: exact (see
@@ -123,26 +127,28 @@ class ShapeSet:
                 (Z, M, C) (e.g. how far each capsule may move).
         """
         m, c = segments.shape[:2]
-        middles = (segments[..., 0] + segments[..., 1]).reshape(m * c, 3).T / 2.0   # (3, MC)
-        local = self._rotation @ middles - self._offset                          # (Z, 3, MC)
-        beyond = np.maximum(np.abs(local) - self._half, 0.0)
+        sums = segments.sum(axis=3).reshape(m * c, 3).T                 # 2 x middles, (3, MC)
+        beyond = np.maximum(np.abs(self._half_rotation @ sums - self._offset) - self._half, 0.0)
         gap = np.sqrt((beyond * beyond).sum(axis=1)).reshape(-1, m, c) - \
-            self._grow[:, :, :1] - half_lengths - radii
+            (self._grow[:, :, :1] + (half_lengths + radii))
         z, i, j = np.nonzero(gap <= needed)
         if len(z):
-            ends = segments[i, j]                                                 # (N, 3, 2)
-            start = np.einsum('nkj,nj->kn', self._rotation[z], ends[:, :, 0]) - \
-                self._offset[z, :, 0].T
-            span = np.einsum('nkj,nj->kn', self._rotation[z], ends[:, :, 1] - ends[:, :, 0])
-            exact = segment_box(start, span, self._half[z, :, 0].T)
+            ends = self._rotation[z] @ segments[i, j] - self._offset[z]            # (N, 3, 2)
+            start = ends[:, :, 0].T
+            span = ends[:, :, 1].T - start
+            exact = np.empty(len(z))
+            point = self._is_point[z]
+            if point.any():
+                exact[point] = segment_point(start[:, point], span[:, point])
+            if not point.all():
+                box = ~point
+                exact[box] = segment_box(start[:, box], span[:, box], self._half[z[box], :, 0].T)
+            exact -= self._grow[z, 0, 0]
             cylinder = self._is_cylinder[z]
             if cylinder.any():
-                low = np.minimum(np.abs(start[2]), np.abs(start[2] + span[2]))
-                across = start[2] * (start[2] + span[2]) <= 0.0
-                slab = np.where(across, 0.0, low) - self._slab[z]
-                exact = np.where(cylinder, np.maximum(exact - self._grow[z, 0, 0], slab),
-                                 exact - self._grow[z, 0, 0])
-            else:
-                exact = exact - self._grow[z, 0, 0]
+                top = ends[:, 2]                                         # (N, 2) along the axis
+                across = top[:, 0] * top[:, 1] <= 0.0
+                slab = np.where(across, 0.0, np.abs(top).min(axis=1)) - self._slab[z]
+                exact = np.where(cylinder, np.maximum(exact, slab), exact)
             gap[z, i, j] = np.maximum(gap[z, i, j], exact - radii[j])
         return gap

@@ -9,17 +9,19 @@ zone (world.clearance), and returns q_to, or the last configuration on the motio
 proven clear. The guarantee is for the continuous motion: a configuration checked at s on the
 motion q(s) = q_from + s (q_to - q_from), s in 0..1, covers the interval s +- w/2 around it when
 each capsule's clearance there exceeds how far its segment can move over w/2, bounded by
-ArmCapsules.reach @ |q_to - q_from| x w/2. Intervals not proven clear are split (SPLIT ways)
-until their motion bound is below RESOLUTION_M; the first one still not proven ends the motion
-at its start. A cut stops the arm MARGIN_M outside the zone, not at it.
+ArmCapsules.reach @ |q_to - q_from| x w/2. Intervals not proven clear are split (up to
+MAX_SPLIT ways) until their motion bound is below RESOLUTION_M; the first one still not proven
+ends the motion at its start. A cut stops the arm MARGIN_M outside the zone, not at it.
 
 At a zone already (within NEAR_M, as after a cut) or inside it (a zone file can change
 under the arm): such a (capsule, zone) pair may not end a command nearer (deeper) than it
 started, and on the way its clearance may dip at most SLACK_M (never into the zone from outside);
 otherwise the arm stays at q_from. So the arm can always move away, each command ends no nearer
-than it started, and depth cannot creep over many commands. Pure numpy, no ROS.
+than it started, and depth cannot creep over many commands. Pure numpy, no ROS; with a few
+dozen capsules a numpy call's overhead is the cost, so each pass is one batch of configurations.
 """
 import collections
+import math
 
 import numpy as np
 import yaml
@@ -32,8 +34,9 @@ MARGIN_M = 0.002        # a cut command stops the arm this far (and up to RESOLU
                         # outside the zone ...
 SLACK_M = 0.001         # ... so that from there a motion may dip this much on its way out
 NEAR_M = MARGIN_M + RESOLUTION_M + SLACK_M   # a pair this near at the start is at the zone
-SPLIT = 8               # an interval not proven clear is split into this many
-REFINE_AT_ONCE = 8      # intervals split in one pass at most
+MAX_SPLIT = 32          # an interval not proven clear is split into at most this many
+REFINE_AT_ONCE = 8      # intervals split in one pass at most ...
+MAX_NEW = 64            # ... while their new configurations fit in this many (but one at least)
 FIRST_STEP_M = 0.02     # the sweep starts with intervals of at most this motion bound (m) ...
 MAX_FIRST = 64          # ... but no more than this many
 MAX_CHECKED = 4096      # configurations checked per call at most (then the rest is refused)
@@ -119,26 +122,29 @@ class ZoneGuard:
             return list(q_to), None
         motion = q_to - q_from
         speed = self.capsules.reach @ np.abs(motion)          # (C,) m per unit of s
-        count = int(min(max(np.ceil(speed.max() / FIRST_STEP_M), 1), MAX_FIRST))
+        longest = float(speed.max())
+        count = min(max(math.ceil(longest / FIRST_STEP_M), 1), MAX_FIRST)
         # Also the finest step from the start: an arm held at a zone's boundary is settled at
         # once, without splitting its way down to it.
-        s = np.union1d(np.linspace(0.0, 1.0, count + 1),
-                       [min(RESOLUTION_M / max(speed.max(), 1e-12), 1.0)])
-        raw = self._clearance(q_from + s[:, None] * motion,
-                              speed * np.diff(s).max() + NEAR_M)
+        s = sorted({k / count for k in range(count + 1)} |
+                   {min(RESOLUTION_M / max(longest, 1e-12), 1.0)})
+        widest = max(b - a for a, b in zip(s, s[1:]))
+        raw = self._clearance(q_from + np.array(s)[:, None] * motion, speed * widest + NEAR_M)
         self.checked = len(s)
         start = raw[:, 0]                                    # (Z, C)
         near = start < NEAR_M                                 # at (or in) a zone already
         floor = np.where(near, start - SLACK_M, MARGIN_M)    # the clearance to keep
-        floor[(start > 0.0) & (floor < 0.0)] = 0.0           # never into a zone from outside
-        closer = np.where(near, raw[:, -1] - start, np.inf)
-        if closer.min() < 0.0:   # nearer at the end than at the start: stay
-            z, c = np.unravel_index(np.argmin(closer), closer.shape)
-            return list(q_from), Hit(self.names[z], self.capsules.links[c])
-        end, pair = self._sweep(q_from, motion, speed, s, raw - floor[:, None], floor[:, None])
+        if near.any():
+            floor[(start > 0.0) & (floor < 0.0)] = 0.0       # never into a zone from outside
+            closer = np.where(near, raw[:, -1] - start, np.inf)
+            if closer.min() < 0.0:   # nearer at the end than at the start: stay
+                z, c = np.unravel_index(np.argmin(closer), closer.shape)
+                return list(q_from), Hit(self.names[z], self.capsules.links[c])
+        floor = floor[:, None]
+        end, pair, there = self._sweep(q_from, motion, speed, np.array(s), raw - floor, floor)
         if near.any() and 0.0 < end < 1.0:   # cut further on: still no nearer there, or stay
-            final = self._clearance((q_from + end * motion)[None], np.inf)[:, 0]
-            closer = np.where(near, final - start, np.inf)
+            # (there: lower bounds, exact below NEAR_M, so a near pair's is exact or farther)
+            closer = np.where(near, there + floor[:, 0] - start, np.inf)
             if closer.min() < 0.0:
                 end, pair = 0.0, np.unravel_index(np.argmin(closer), closer.shape)
         if end == 1.0:
@@ -172,37 +178,51 @@ class ZoneGuard:
         return q_out, hit
 
     def _sweep(self, q_from, motion, speed, s, gaps, floor):
-        """Return (end, (zone, capsule)): the motion is proven clear for s in [0, end]; of the
-        pairs not proven clear in the first interval that is not, the nearest (None when end
-        is 1).
+        """Return (end, (zone, capsule), gaps at end): the motion is proven clear for s in
+        [0, end]; of the pairs not proven clear in the first interval that is not, the nearest
+        (None when end is 1).
 
         s: (M,) checked points in order, gaps: (Z, M, C) their clearances above the floor. An
         interval between neighbours is clear when, for every pair, the clearances at its ends
         add up to more than the capsule can move across it; the first one that is not is split
-        until its motion bound is below RESOLUTION_M, and the motion ends at its start.
+        until its motion bound is below RESOLUTION_M, and the motion ends at its start. An
+        interval is split into as many as its pairs' clearance suggests would prove it (down
+        to RESOLUTION_M at once where a pair is at its floor), so that most cuts and near
+        misses take one more pass.
         """
-        longest = speed.max()
+        longest = float(speed.max())
         while True:
-            width = np.diff(s)
+            width = s[1:] - s[:-1]
             short = gaps[:, :-1] + gaps[:, 1:] - speed * width[:, None]     # (Z, M-1, C)
-            open_ = np.flatnonzero((short <= 0.0).any(axis=(0, 2)))
+            failing = short <= 0.0
+            open_ = np.flatnonzero(failing.any(axis=(0, 2)))
             if not len(open_):
-                return 1.0, None
+                return 1.0, None, None
             i = open_[0]
             if longest * width[i] <= RESOLUTION_M or self.checked >= MAX_CHECKED:
-                failed = np.where(short[:, i] <= 0.0, gaps[:, i] + gaps[:, i + 1], np.inf)
+                failed = np.where(failing[:, i], gaps[:, i] + gaps[:, i + 1], np.inf)
                 pair = np.unravel_index(np.argmin(failed), failed.shape)  # the nearest of them
-                return float(s[i]), pair
+                return float(s[i]), pair, gaps[:, i]
             # Split the first few open intervals at once (up to the first one already fine):
             # a pass costs about the same for one interval or many.
             fine = longest * width[open_] <= RESOLUTION_M
             chosen = open_[:min(REFINE_AT_ONCE, int(np.argmax(fine)) if fine.any()
                                 else len(open_))]
-            new = np.concatenate([np.linspace(s[k], s[k + 1], SPLIT + 1)[1:-1] for k in chosen]
-                                 + [[s[i] + RESOLUTION_M / longest]])
-            new = np.unique(new)
+            lowest = np.where(failing[:, chosen],
+                              np.minimum(gaps[:, chosen], gaps[:, chosen + 1]), np.inf)
+            pieces = np.clip(np.ceil(longest * width[chosen] /
+                                     np.maximum(lowest.min(axis=(0, 2)), RESOLUTION_M)),
+                             2, MAX_SPLIT)
+            bounds, new = s.tolist(), set()
+            for k, n in zip(chosen.tolist(), pieces.astype(int).tolist()):
+                if new and len(new) + n > MAX_NEW:
+                    break
+                new.update(bounds[k] + (bounds[k + 1] - bounds[k]) * m / n for m in range(1, n))
+            if bounds[i] + RESOLUTION_M / longest < bounds[i + 1]:
+                new.add(bounds[i] + RESOLUTION_M / longest)
+            new = np.array(sorted(new))
             more = self._clearance(q_from + new[:, None] * motion,
-                                   speed * width[chosen].max() / SPLIT + NEAR_M) - floor
+                                   speed * float((width[chosen] / pieces).max()) + NEAR_M) - floor
             self.checked += len(new)
             order = np.argsort(np.concatenate([s, new]), kind='stable')
             s = np.concatenate([s, new])[order]
