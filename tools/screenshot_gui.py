@@ -157,11 +157,15 @@ def reach(start_s, from_rad):
     return move
 
 
-def main():
+def run(name, scenario, debug_mode):
+    """Build gui_R's window (debug_mode: its joint tabs) and run scenario(window, out_dir, hand,
+    baxter) step by step (it yields seconds to wait or a predicate to wait for); return the
+    output folder (argv[1]), or exit with status 1 when a step does not happen in time."""
     out_dir = sys.argv[1]
     rospy.init_node('gui_R')
-    app = QtWidgets.QApplication(['screenshot_gui'])
-    window = Window(PuppetClient('R', ArmState()), True, SimPuppetClient('R'), CameraClient())
+    app = QtWidgets.QApplication([name])
+    window = Window(PuppetClient('R', ArmState()), debug_mode, SimPuppetClient('R'),
+                    CameraClient())
     window.show()
     hand = []  # what moves the panel's sliders each tick
     steps = scenario(window, out_dir, hand, BaxterRightArm())
@@ -178,8 +182,9 @@ def main():
             if done:
                 wait[:] = [next(steps), time.monotonic()]
             elif time.monotonic() - since > STEP_TIMEOUT_S:
-                raise GaveUp('waited %.0f s (encoders: %s)' % (STEP_TIMEOUT_S, [
-                    j.status for j in window.client.state.snapshot().joints]))
+                snap = window.client.state.snapshot()
+                raise GaveUp('waited %.0f s (encoders: %s; teleop: %s)' % (
+                    STEP_TIMEOUT_S, [j.status for j in snap.joints], snap.teleop))
         except StopIteration:
             app.quit()
         except GaveUp as reason:
@@ -192,7 +197,12 @@ def main():
     app.exec_()
     rospy.signal_shutdown('screenshots taken' if not failure else 'gave up')
     if failure:
-        sys.exit('screenshot_gui: gave up: %s' % failure[0])
+        sys.exit('%s: gave up: %s' % (name, failure[0]))
+    return out_dir
+
+
+def main():
+    out_dir = run('screenshot_gui', scenario, True)
     print('screenshots in %s: gui_main.png, gui_joint%d.png, gui_camera_reach.jpg'
           % (out_dir, WAVED_JOINT))
 

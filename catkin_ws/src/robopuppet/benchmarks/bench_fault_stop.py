@@ -30,13 +30,13 @@ from bench_support import percentile, private_roscore
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'tests',
                                 'integration'))
+from hand_pose import HAND_POSE  # noqa: E402
 from teleop_harness import (PuppetArm, calibrate, max_error, node_pid,  # noqa: E402
                             swinging_hand, wait_for)
 
 from robopuppet import baxter_description, interface  # noqa: E402
 from robopuppet.arm import timing  # noqa: E402
 
-POSE = [0.2, 0.4, 0.3, 1.0, -0.3, 0.6, 0.25]
 MOVED_RAD = 1e-5
 
 
@@ -83,7 +83,7 @@ def trial(puppet, arm, pid):
     puppet.press(interface.BUTTON_RIGHT)
     wait_for(lambda: puppet.state() == interface.FOLLOWING, 10, 'following')
     wait_for(lambda: max_error(arm.pose(), puppet.angles) < 0.02, 20, 'arm on the puppet')
-    with swinging_hand(puppet, POSE):
+    with swinging_hand(puppet, HAND_POSE):
         time.sleep(1.5)  # the arm follows the swinging hand for a while
         os.kill(pid, signal.SIGSTOP)
         try:
@@ -94,7 +94,7 @@ def trial(puppet, arm, pid):
             late_rad = arm.moved_since(last_data_t + 0.5)
         finally:
             os.kill(pid, signal.SIGCONT)
-    puppet.hand(POSE)
+    puppet.hand(HAND_POSE)
     wait_for(lambda: puppet.state() == interface.READY, 20, 'ready after the puppet is back')
     return moved_s, late_rad
 
@@ -116,7 +116,7 @@ def main():
             puppet, arm = PuppetArm('R'), RightArm()
             wait_for(lambda: puppet.state() == interface.CALIBRATING, 60, 'arm_R calibrating')
             puppet.end_piece(False)
-            calibrate(puppet, POSE)
+            calibrate(puppet, HAND_POSE)
             wait_for(lambda: puppet.state() == interface.READY, 10, 'ready')
             pid = node_pid('/puppet_sim_R')
             delays, late = [], []

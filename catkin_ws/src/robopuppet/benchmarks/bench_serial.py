@@ -4,10 +4,11 @@
 Usage (from the repository, after tools/setup.sh):
     . tools/env.sh && catkin_ws/src/robopuppet/benchmarks/bench_serial.py [--seconds 5]
 
-Starts its own roscore on a free port, publishes stored_settings with default settings (as
-config_X does), plays the puppet's microcontroller on a pseudo-terminal and runs the real serial node against it. For each
-state rate it writes state sets (seven joint states, four grippers, buttons); the angles of a
-set's joints 0 and 1 carry its sequence number (plausible angles, exact in float32). The latency of a set runs from the moment the write holding
+Starts its own roscore on a free port, publishes active_settings with default settings (as
+config_X does), plays the puppet's microcontroller on a pseudo-terminal and runs the real serial
+node against it. For each state rate it writes state sets (seven joint states, four grippers,
+buttons); the angles of a set's joints 0 and 1 carry its sequence number (plausible angles,
+exact in float32). The latency of a set runs from the moment the write holding
 its last joint state frame returns to the moment its joint_states message reaches a subscriber
 in this process. Prints figures; passes or fails nothing.
 """
@@ -90,7 +91,7 @@ class Device:
 
 
 def bench_latency(seconds):
-    """Run roscore and serial_L, publish stored_settings; print latency, loss and CPU per rate."""
+    """Run roscore and serial_L, publish active_settings; print latency, loss and CPU per rate."""
     import rospy
     from sensor_msgs.msg import JointState
     from std_msgs.msg import Float32
@@ -102,7 +103,7 @@ def bench_latency(seconds):
         try:
             rospy.init_node('bench_serial', disable_signals=True)
             ns = interface.puppet_ns('L')
-            stored = rospy.Publisher('%s/%s' % (ns, interface.STORED_SETTINGS), ArmSettings,
+            stored = rospy.Publisher('%s/%s' % (ns, interface.ACTIVE_SETTINGS), ArmSettings,
                                      queue_size=1, latch=True)
             stored.publish(ArmSettings(joints=[JointSettings(joint=j, **settings.DEFAULTS)
                                                for j in settings.JOINTS]))

@@ -48,8 +48,11 @@ import bench_teleop_record
 from bench_support import (cpu_seconds, percentile, private_roscore, run_queue_wait_s,
                            start_process, stop_process)
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'tests',
+                                'integration'))
+from hand_pose import HAND_POSE  # noqa: E402
+
 HOST_NODES = ('config', 'serial', 'arm')
-POSE = [0.2, 0.4, 0.3, 1.0, -0.3, 0.6, 0.25]
 STEP_RAD = 0.01
 
 
@@ -63,7 +66,7 @@ class Device:
         os.symlink(os.ttyname(slave), link)
         self._slave = slave
         self.lock = threading.Lock()
-        self.angles = list(POSE)
+        self.angles = list(HAND_POSE)
         self.button = 0
         self.changed_t = None
         self._stop = False

@@ -18,7 +18,8 @@ Data flows from the puppet to Baxter:
 | puppet_sim/   | puppet_sim_X: the simulated 2020 firmware and its node      | tables,protocol |
 | calibration/  | home_angle and sign_angle solved from poses; the wizard's   | tables          |
 |               | steps and the terminal command calibrate (calibrate_node)   |                 |
-| gui/          | gui_X: the Qt window and its ROS client                     | tables, config, |
+| gui/          | gui_X: the Qt window and its ROS client                     | tables, arm,    |
+|               |                                                             | config,         |
 |               |                                                             | puppet_sim,     |
 |               |                                                             | calibration,    |
 |               |                                                             | episodes        |
@@ -34,12 +35,13 @@ Data flows from the puppet to Baxter:
 |               | keep-out zone guard                                         |                 |
 
 The subsystems meet only through ROS topics and services named in interface.py (settings reach
-serial_X as config_X's stored_settings, not as an import); puppet_sim/ shares protocol/'s codec
+serial_X as config_X's active_settings, not as an import); puppet_sim/ shares protocol/'s codec
 because it speaks the same wire, and gui/ uses config/'s form checks, puppet_sim/'s rest
 pose for its virtual puppet, calibration/'s steps for its wizard and episodes/' status line.
 cameras/ reads its world file's shapes and arm/ its keep-out zones through world/, which
 holds no node of its own. ghost/ maps the puppet's angles with arm/'s pure joint_motion and
-readings, so that the ghost shows exactly what arm_X would command.
+readings, so that the ghost shows exactly what arm_X would command; gui/ maps Baxter's pose back
+into puppet space with the same joint_motion rule as arm_X's feel mode.
 
 Within a folder the node adapter (`*_node.py`) is the only module that talks to ROS (besides
 gui.puppet_client, the GUI's ROS client); the others are pure (no rospy, no Qt outside

@@ -48,17 +48,21 @@ def gripper_topic(side, gripper):
 JOINT_STATES = 'joint_states'       # sensor_msgs/JointState: position rad, effort V (serial_X)
 USER_BUTTON = 'user_btn'            # std_msgs/UInt8, 0 none or 1..4 (serial_X)
 HEARTBEAT = 'heartbeat'             # std_msgs/Empty, one per firmware heartbeat (serial_X)
-OPMODE = 'opmode'                   # std_msgs/String, limp or hold (to serial_X)
+OPMODE = 'opmode'                   # std_msgs/String, limp, hold or feel (to serial_X)
 TELEOP_STATE = 'teleop_state'       # robopuppet_msgs/TeleopState, latched (arm_X)
 GET_CONFIG = 'get_config'           # robopuppet_msgs/GetConfig (config_X)
 SET_CONFIG = 'set_config'           # robopuppet_msgs/SetConfig (config_X)
 STORED_SETTINGS = 'stored_settings'  # robopuppet_msgs/ArmSettings, latched (config_X)
+# robopuppet_msgs/ArmSettings, latched (config_X): what the device should hold now, the stored
+# settings or, in feel mode, those with feel mode's gentle gains (profile 'feel'; serial_X)
+ACTIVE_SETTINGS = 'active_settings'
 LINK_PING = 'link_ping'             # robopuppet_msgs/LinkPing from the robot host (arm_X)
 LINK_ECHO = 'link_echo'             # robopuppet_msgs/LinkPing answered by the operator host
 LINK_STATE = 'link_state'           # robopuppet_msgs/LinkState (arm_X)
 # Relative to sim_ns(side): the simulated puppet's operator topics (puppet_sim_X), and what it
 # shows of the device for tests and the GUI.
 SIM_HAND, SIM_BUTTON, SIM_GRIPPERS, SIM_CONTROL = 'hand', 'button', 'grippers', 'control'
+SIM_HAND_TORQUE = 'hand_torque'  # sensor_msgs/JointState: effort = the hand's torque N m
 SIM_LINE_NOISE = 'line_noise'
 SIM_DEVICE_CONFIG, SIM_DEVICE_OPMODE = 'device_config', 'device_opmode'
 DIAGNOSTICS = '/diagnostics'
@@ -107,14 +111,17 @@ def baxter_gripper_topic(side, name):
 
 
 # ---- puppet enumerations (the wire codes index these tuples) ----------------------------------
-OPMODES = ('limp', 'hold')
-LIMP, HOLD = OPMODES
+DEVICE_OPMODES = ('limp', 'hold')   # the firmware's two; the wire codes index these
+# feel: the device holds (gentle gains, setpoints streamed from Baxter's pose; DESIGN section 8)
+OPMODES = DEVICE_OPMODES + ('feel',)
+LIMP, HOLD, FEEL = OPMODES
 ENC_STATUS = ('Working', 'Disconnected', 'Uncalibrated')
 WORKING, DISCONNECTED, UNCALIBRATED = ENC_STATUS
 NUM_GRIPPERS = 4
 END_PIECE_GRIPPER = 3  # the pencil end piece's button: reads ~1 released, ~0 pressed
 NUM_BUTTONS = 4
-BUTTON_HOLD, BUTTON_LEFT, BUTTON_RIGHT = 1, 2, 3  # what arm_X does with buttons 1..3
+# what arm_X does with buttons 1..3: 1 cycles the opmode limp -> hold -> feel -> limp
+BUTTON_OPMODE, BUTTON_LEFT, BUTTON_RIGHT = 1, 2, 3
 
 # ---- teleop states (robopuppet_msgs/TeleopState's constants) ----------------------------------
 TELEOP_STATES = ('no_robot', 'calibrating', 'ready', 'following', 'fault')

@@ -61,3 +61,18 @@ def section(joint):
     """Return the ini section name of a joint, e.g. 'joint_3'."""
     return 'joint_%d' % joint
 
+
+
+# Feel mode's gentle gains: the [feel] section of the arm's ini file. config_X lays them over the
+# stored joint settings while <ns>/opmode is feel (robopuppet.config.feel_profile) and never
+# stores the result in a joint's settings. Bounds: low < value <= high.
+FEEL_SECTION = 'feel'
+FeelSetting = collections.namedtuple('FeelSetting', 'name unit default meaning low high')
+FEEL_SETTINGS = (
+    FeelSetting('gain_scale', '', 0.25, 'pid_kp and pid_kd factor in feel mode (pid_ki is 0)',
+                0.0, 1.0),
+    FeelSetting('voltage_limit', 'V', 2.0, 'PID voltage bound in feel mode (+-)', 0.0, 12.0),
+)
+FEEL_NAMES = tuple(s.name for s in FEEL_SETTINGS)
+FEEL_DEFAULTS = {s.name: s.default for s in FEEL_SETTINGS}
+FEEL_BY_NAME = {s.name: s for s in FEEL_SETTINGS}

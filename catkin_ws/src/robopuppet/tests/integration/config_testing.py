@@ -1,5 +1,5 @@
 """What the config node's rostests share: the fixture, starting and stopping config_R, its
-services, and a listener to stored_settings."""
+services, and a listener to stored_settings (or active_settings)."""
 import os
 import re
 import threading
@@ -19,6 +19,7 @@ NS = interface.puppet_ns('R')
 SERVICE = '%s/%s' % (NS, interface.GET_CONFIG)
 SET_SERVICE = '%s/%s' % (NS, interface.SET_CONFIG)
 STORED = '%s/%s' % (NS, interface.STORED_SETTINGS)
+ACTIVE = '%s/%s' % (NS, interface.ACTIVE_SETTINGS)
 LOG_LINE = re.compile(r'^\[rosout\]\[(\w+)\] \S+ \S+: (.*)$')  # the node's own log file
 
 
@@ -46,12 +47,13 @@ def set_config(joint, **values):
 
 
 class StoredSettings:
-    """Every robopuppet_msgs/ArmSettings received on config_R's stored_settings, in order."""
+    """Every robopuppet_msgs/ArmSettings received on config_R's stored_settings (or another
+    topic, e.g. ACTIVE), in order."""
 
-    def __init__(self):
+    def __init__(self, topic=STORED):
         self._lock = threading.Lock()
         self._messages = []
-        self._subscriber = rospy.Subscriber(STORED, ArmSettings, self._on_message)
+        self._subscriber = rospy.Subscriber(topic, ArmSettings, self._on_message)
 
     def _on_message(self, msg):
         with self._lock:

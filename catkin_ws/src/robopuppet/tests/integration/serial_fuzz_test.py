@@ -17,7 +17,7 @@ from std_msgs.msg import Empty, Float32, UInt8
 
 from robopuppet import interface, settings
 from robopuppet.protocol import codec
-from serial_test_support import StoredSettings, seed_values, topic, wait_for
+from serial_test_support import ActiveSettings, seed_values, topic, wait_for
 
 RATE_HZ = 100.0  # state sets, time-compressed (the firmware's 10 Hz would take too long)
 HEARTBEAT_EVERY = 100  # sets: one heartbeat a second, as the firmware sends
@@ -75,7 +75,7 @@ class SerialFuzzTest(unittest.TestCase):
         tty.setraw(cls.slave)
         cls.stop = False
         threading.Thread(target=cls.drain, daemon=True).start()
-        cls.stored = StoredSettings()
+        cls.stored = ActiveSettings()
         cls.stored.publish(values)
         cls.launch = roslaunch.scriptapi.ROSLaunch()
         cls.launch.start()

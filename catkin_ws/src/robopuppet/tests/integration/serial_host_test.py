@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """serial_L's host -> device side: 64-byte writes, idempotent reloads, safe holds, a replug
-without config_X, and the comm_rate check. The test publishes stored_settings as config_X does.
+without config_X, and the comm_rate check. The test publishes active_settings as config_X does.
 """
 import time
 import unittest
@@ -13,7 +13,7 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32, String
 
 from robopuppet import interface, settings
-from serial_test_support import SIM, StoredSettings, Watcher, index, seed_values, topic, wait_for
+from serial_test_support import SIM, ActiveSettings, Watcher, index, seed_values, topic, wait_for
 
 RATE_HZ = 50.0
 HALL_REVERSED = 1  # joint 1: absolute encoder, sign_angle -1 and home_angle -0.125 in the ini
@@ -33,7 +33,7 @@ class SerialHostTest(unittest.TestCase):
         cls.pub_opmode = rospy.Publisher(topic(interface.OPMODE), String, queue_size=10)
         cls.pub_setpoint = [rospy.Publisher(interface.joint_topic('L', j, 'setpoint'), Float32,
                                             queue_size=10) for j in settings.JOINTS]
-        cls.stored = StoredSettings()
+        cls.stored = ActiveSettings()
         cls.stored.publish(cls.seed)
         cls.launch = roslaunch.scriptapi.ROSLaunch()
         cls.launch.start()
@@ -158,12 +158,12 @@ class SerialHostTest(unittest.TestCase):
         self.assert_no_zero_setpoint_away_from_zero(self.hold_ticks(25))
         self.go_limp()
 
-    def test_5_a_replug_while_config_x_is_gone_loads_the_newest_stored_settings(self):
+    def test_5_a_replug_while_config_x_is_gone_loads_the_newest_active_settings(self):
         self.wait_loaded(0.0)
         self.stored.stop()  # config_X exits (or hangs: serial_L asks it nothing)
         try:
             self.assertIsNotNone(wait_for(lambda: (
-                self.watch.diagnostics.get('stored settings publishers'),
+                self.watch.diagnostics.get('active settings publishers'),
                 self.watch.diagnostics.get('level')) == ('0', 1), 10.0), self.watch.diagnostics)
             self.assertIn('nothing publishes', self.watch.diagnostics['message'])
             replugged = time.monotonic()
@@ -175,7 +175,7 @@ class SerialHostTest(unittest.TestCase):
             self.assertIsNotNone(wait_for(lambda: 'nothing publishes' in self.watch.diagnostics.get(
                 'message', ''), 5.0), self.watch.diagnostics)
         finally:
-            type(self).stored = StoredSettings()
+            type(self).stored = ActiveSettings()
             self.stored.publish(self.seed)
         self.assertIsNotNone(wait_for(lambda: self.watch.diagnostics.get('level') == 0, 10.0),
                              self.watch.diagnostics)

@@ -10,7 +10,7 @@ import rospy
 import rostest
 from roslaunch.core import Node
 
-from serial_test_support import StoredSettings, Watcher, seed_values, wait_for
+from serial_test_support import ActiveSettings, Watcher, seed_values, wait_for
 
 RECOVERY_LIMIT_S = 2.0
 
@@ -23,7 +23,7 @@ class SerialRecoveryTest(unittest.TestCase):
         cls.seed = seed_values(rospy.get_param('~seed_file'))
         cls.link = rospy.get_param('~link')
         cls.watch = Watcher()
-        cls.stored = StoredSettings()
+        cls.stored = ActiveSettings()
         cls.stored.publish(cls.seed)
         cls.launch = roslaunch.scriptapi.ROSLaunch()
         cls.launch.start()

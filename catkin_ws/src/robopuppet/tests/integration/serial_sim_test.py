@@ -1,9 +1,11 @@
 #!/usr/bin/python3
 """serial_L against the simulated puppet over a pty: settings, tracking, forwarding, line noise.
 
-The test publishes stored_settings itself, as config_X does; test_5 runs the real config_X.
+The test publishes active_settings itself, as config_X does; test_6 and test_7 (feel mode) run
+the real config_X.
 """
 import math
+import threading
 import time
 import unittest
 
@@ -15,9 +17,10 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Empty, Float32, Float32MultiArray, String, UInt8, UInt8MultiArray
 
 from robopuppet import interface, settings
+from robopuppet.config import feel_profile
 from robopuppet.protocol import codec
 from robopuppet.puppet_sim.puppet_arm import REST_POSE_RAD, wrap
-from serial_test_support import (PER_JOINT, SIM, StoredSettings, TempConfig,
+from serial_test_support import (PER_JOINT, SIM, ActiveSettings, TempConfig,
                                  Watcher, index, seed_values, topic, wait_for)
 
 # A hand pose that takes every quadrature joint across its index mark from the rest pose.
@@ -41,7 +44,7 @@ class SerialSimTest(unittest.TestCase):
         cls.watch = Watcher()
         cls.launch = roslaunch.scriptapi.ROSLaunch()
         cls.launch.start()
-        cls.stored = StoredSettings()  # nothing published until test_1 says so
+        cls.stored = ActiveSettings()  # nothing published until test_1 says so
         cls.joint_topics = []  # (time, topic) of every joint_3 angle/voltage/enc_stat message
         cls.grippers = []  # time of every gripper_0 message
         cls.subs = [rospy.Subscriber(interface.joint_topic('L', 3, topic), kind,
@@ -121,7 +124,7 @@ class SerialSimTest(unittest.TestCase):
         self.assertEqual(len(self.watch.warnings_with('publishing no joint states')), 1,
                          self.watch.warnings)
         self.assertEqual((self.watch.diagnostics['settings loaded'],
-                          self.watch.diagnostics['stored settings']), ('False', 'none yet'))
+                          self.watch.diagnostics['active settings']), ('False', 'none yet'))
         started = time.monotonic()
         revision = self.stored.publish(self.seed)
         self.wait_device_holds(self.seed)
@@ -134,8 +137,8 @@ class SerialSimTest(unittest.TestCase):
                                       == {'angle', 'voltage', 'enc_stat'}, 5.0))
         self.assertIsNotNone(wait_for(lambda: (
             self.watch.diagnostics.get('settings loaded'),
-            self.watch.diagnostics.get('stored settings'),
-            self.watch.diagnostics.get('stored settings publishers'))
+            self.watch.diagnostics.get('active settings'),
+            self.watch.diagnostics.get('active settings publishers'))
             == ('True', 'revision %d' % revision, '1'), 5.0), self.watch.diagnostics)
 
     def test_2_topics_track_the_hand_buttons_and_grippers(self):
@@ -181,7 +184,7 @@ class SerialSimTest(unittest.TestCase):
         self.assertIsNotNone(took, 'joint %d at %.3f rad, expected %.3f' % (
             joint, self.position()[joint], before - HOME_STEP_RAD))
         rospy.loginfo('serial_sim: a home_angle change shows in joint_states %.0f ms after '
-                      'stored_settings was published', 1000.0 * took)
+                      'active_settings was published', 1000.0 * took)
         self.wait_device_holds(values, 5.0)
         self.assertAlmostEqual(self.steady_angle(joint, changed + took), before - HOME_STEP_RAD,
                                delta=0.01)
@@ -239,11 +242,11 @@ class SerialSimTest(unittest.TestCase):
         self.assertGreaterEqual(len(self.watch.states_since(start)), int(50 * seconds * 0.5))
 
     def test_6_with_the_real_config_node_a_change_it_stores_reaches_the_device(self):
-        self.stored.stop()  # config_X takes over stored_settings
+        self.stored.stop()  # config_X takes over active_settings
         config = TempConfig(self.launch, self.seed_file)
         try:
             self.assertIsNotNone(wait_for(
-                lambda: self.watch.diagnostics.get('stored settings') == 'revision 0', 20.0),
+                lambda: self.watch.diagnostics.get('active settings') == 'revision 0', 20.0),
                 self.watch.diagnostics)
             self.wait_device_holds(self.seed)
             # The 2020 topics: a value config_X refuses never reaches the device; one it
@@ -261,6 +264,87 @@ class SerialSimTest(unittest.TestCase):
             self.assertNotIn(3.0, seen)
         finally:
             config.stop()
+
+    def test_7_feel_mode_gentle_gains_while_setpoints_flow_then_limp_when_they_stop(self):
+        config = TempConfig(self.launch, self.seed_file)  # its new file gets the [feel] defaults
+        streamer = SetpointStreamer()
+        announced = []  # (caller, mode) of every opmode message
+        sub = rospy.Subscriber(topic(interface.OPMODE), String, lambda msg: announced.append(
+            (msg._connection_header.get('callerid'), msg.data)), queue_size=10)
+        joints = [dict(zip(settings.NAMES, self.seed[j * PER_JOINT:(j + 1) * PER_JOINT]))
+                  for j in settings.JOINTS]
+        gentle = [v for values in feel_profile.active_joints('feel', joints, {
+            'gain_scale': 0.25, 'voltage_limit': 2.0}) for v in values.values()]
+        self.assertNotEqual(gentle, self.seed)
+
+        def serial_said_limp():
+            return ('/serial_L', interface.LIMP) in announced
+        try:
+            self.assertIsNotNone(wait_for(
+                lambda: self.watch.diagnostics.get('active settings') == 'revision 0', 20.0),
+                self.watch.diagnostics)
+            self.wait_device_holds(self.seed)
+            streamer.start(self.position)
+            self.pub_opmode.publish(String(interface.FEEL))
+            self.wait_device_holds(gentle, 10.0)
+            self.assertEqual(self.watch.device_opmode, interface.HOLD)
+            rospy.sleep(1.5)  # setpoints flowing (20 Hz): feel lasts
+            self.assertEqual(self.watch.device_opmode, interface.HOLD)
+            self.assertFalse(serial_said_limp(), announced)
+            self.pub_opmode.publish(String(interface.HOLD))  # the stored gains again
+            self.wait_device_holds(self.seed, 10.0)
+            streamer.stop()
+            rospy.sleep(1.5)  # hold is never timed out
+            self.assertEqual(self.watch.device_opmode, interface.HOLD)
+            self.assertFalse(serial_said_limp(), announced)
+
+            streamer.start(self.position)
+            self.pub_opmode.publish(String(interface.FEEL))
+            self.wait_device_holds(gentle, 10.0)
+            last_s = streamer.stop()  # arm_X dies
+            self.assertIsNotNone(wait_for(lambda: self.watch.device_opmode == interface.LIMP,
+                                          5.0), 'no limp after the setpoints stopped')
+            took_s = time.monotonic() - last_s
+            rospy.loginfo('serial_sim: the device went limp %.2f s after the last setpoint '
+                          '(~feel_setpoint_timeout 0.5 s)', took_s)
+            self.assertGreaterEqual(took_s, 0.45)
+            self.assertLess(took_s, 2.5)  # 0.5 s plus a loaded machine's delays
+            self.assertIsNotNone(wait_for(serial_said_limp, 5.0), announced)
+            self.assertTrue(self.watch.warnings_with('no joint setpoint for'), self.watch.warnings)
+            self.wait_device_holds(self.seed, 10.0)  # config_X heard the limp too
+        finally:
+            streamer.stop()
+            sub.unregister()
+            self.pub_opmode.publish(String(interface.LIMP))
+            config.stop()
+
+
+class SetpointStreamer:
+    """Play arm_X in feel mode: publish every joint's setpoint (where it is) at 20 Hz."""
+
+    def __init__(self):
+        self._publishers = [rospy.Publisher(interface.joint_topic('L', j, 'setpoint'), Float32,
+                                            queue_size=10) for j in settings.JOINTS]
+        self._thread, self._stop, self.last_s = None, threading.Event(), None
+
+    def start(self, position):
+        self._stop.clear()
+        self._thread = threading.Thread(target=self._run, args=(position,), daemon=True)
+        self._thread.start()
+        assert wait_for(lambda: self.last_s is not None, 5.0) is not None
+
+    def _run(self, position):
+        while not self._stop.wait(0.05):
+            for publisher, angle in zip(self._publishers, position()):
+                publisher.publish(Float32(angle))
+            self.last_s = time.monotonic()
+
+    def stop(self):
+        """Stop publishing; return when the last setpoint went out (monotonic s)."""
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join(1.0)
+        return self.last_s
 
 
 if __name__ == '__main__':

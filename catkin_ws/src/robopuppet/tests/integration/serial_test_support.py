@@ -39,12 +39,12 @@ def index(joint, name):
     return joint * PER_JOINT + settings.CONFIG_ID[name]
 
 
-class StoredSettings:
-    """Stands in for config_X: publishes 84 values as latched stored_settings revisions."""
+class ActiveSettings:
+    """Stands in for config_X: publishes 84 values as latched active_settings revisions."""
 
     def __init__(self):
         self.revision = 0
-        self.publisher = rospy.Publisher(topic(interface.STORED_SETTINGS), ArmSettings,
+        self.publisher = rospy.Publisher(topic(interface.ACTIVE_SETTINGS), ArmSettings,
                                          queue_size=10, latch=True)
 
     def publish(self, values):

@@ -69,6 +69,7 @@ class PuppetArm:
                                        queue_size=10, latch=True)
         self._grippers = rospy.Publisher('%s/%s' % (sim, interface.SIM_GRIPPERS),
                                          Float32MultiArray, queue_size=10, latch=True)
+        self._opmode = rospy.Publisher('%s/%s' % (ns, interface.OPMODE), String, queue_size=10)
         rospy.Subscriber('%s/%s' % (ns, interface.JOINT_STATES), JointState, self._on_states,
                          queue_size=100)
         rospy.Subscriber('%s/%s' % (ns, interface.TELEOP_STATE), TeleopState, self._on_teleop,
@@ -114,6 +115,10 @@ class PuppetArm:
             self._button.publish(UInt8(reading))
             wait_for(lambda: self.button == reading, timeout_s,
                      'puppet %s reporting button %d' % (self.side, reading))
+
+    def set_opmode(self, mode):
+        """Set the opmode on <ns>/opmode as the GUI does (limp, hold or feel)."""
+        self._opmode.publish(String(mode))
 
     def end_piece(self, pressed):
         self._grippers.publish(Float32MultiArray(data=PRESSED if pressed else RELEASED))

@@ -1,10 +1,10 @@
 #!/usr/bin/python3
 """rostest: the arm controller under faults, on main_sim.launch headless.
 
-Garbage on /robot/joint_states, a hold while the puppet is away from 0 rad, and a frozen puppet
-(SIGSTOP of puppet_sim_R, found by its pid): the controller keeps its command stream, never
-sends the puppet a setpoint it did not mean, stops Baxter where it is, and does not follow again
-without a new press.
+Garbage on /robot/joint_states, a hold while the puppet is away from 0 rad, feel's setpoints at
+the state rate, and a frozen puppet (SIGSTOP of puppet_sim_R, found by its pid): the controller
+keeps its command stream, never sends the puppet a setpoint it did not mean, stops Baxter where
+it is, and does not follow again without a new press.
 """
 import os
 import signal
@@ -14,12 +14,13 @@ import unittest
 import rospy
 import rostest
 from sensor_msgs.msg import JointState
+from std_msgs.msg import Float32
 
 from robopuppet import baxter_description, interface
+from hand_pose import HAND_POSE
 from teleop_harness import (Baxter, PuppetArm, calibrate, max_error, node_pid,
                             swinging_hand, wait_for)
 
-POSE_A = [0.2, 0.4, 0.3, 1.0, -0.3, 0.6, 0.25]
 AWAY_FROM_ZERO_RAD = 0.1
 STREAM_COMMANDS = 100   # commands over which the stream's rate is measured
 
@@ -29,11 +30,18 @@ class Recorder:
 
     def __init__(self):
         self.ticks = []
+        self.setpoints_t = []   # reception times of joint_0's setpoints (arm_R sends all seven)
         rospy.Subscriber('%s/%s' % (interface.sim_ns('R'), interface.SIM_CONTROL), JointState,
                          self._on_tick, queue_size=500)
+        rospy.Subscriber(interface.joint_topic('R', 0, 'setpoint'), Float32,
+                         lambda m: self.setpoints_t.append(time.monotonic()), queue_size=500)
 
     def _on_tick(self, msg):
         self.ticks.append((list(msg.position), list(msg.velocity)))
+
+    def setpoints_since(self, t):
+        """Return how many joint_0 setpoints arrived after monotonic time t."""
+        return sum(1 for seen in list(self.setpoints_t) if seen > t)
 
     def zero_setpoint_ticks(self):
         """Return the control ticks with a 0 rad setpoint on a joint away from 0 rad."""
@@ -49,10 +57,11 @@ class ArmFaultsTest(unittest.TestCase):
         names = baxter_description.arm_joint_names('right')
         wait_for(lambda: puppet.state() == interface.CALIBRATING, 30, 'arm_R calibrating')
         puppet.end_piece(False)
-        calibrate(puppet, POSE_A)
+        calibrate(puppet, HAND_POSE)
         wait_for(lambda: puppet.state() == interface.READY, 5, 'ready')
         puppet.press(interface.BUTTON_RIGHT)
-        wait_for(lambda: max_error(baxter.arm('right'), POSE_A) < 0.02, 20,
+        # On the puppet's angles: the simulated hand holds the puppet near HAND_POSE, not on it.
+        wait_for(lambda: max_error(baxter.arm('right'), puppet.angles) < 0.02, 20,
                  'right arm on the puppet pose')
 
         # Garbage from "Baxter" (1e39 cannot be packed as a Float32 setpoint) until arm_R has
@@ -61,10 +70,10 @@ class ArmFaultsTest(unittest.TestCase):
             garbage.publish(JointState(name=names, position=[1e39] * 7))
             return int(puppet.diag.get('ignored_robot_poses', 0)) > 0
         wait_for(garbage_counted, 10, 'arm_R counting the garbage poses (%s)' % puppet.diag)
-        wait_for(lambda: max_error(baxter.arm('right'), POSE_A) < 0.1, 5,
+        wait_for(lambda: max_error(baxter.arm('right'), HAND_POSE) < 0.1, 5,
                  'the stand-in reporting Baxter again after the garbage')
         robot = baxter.arm('right')
-        puppet.press(interface.BUTTON_HOLD)
+        puppet.press(interface.BUTTON_OPMODE)
         wait_for(lambda: puppet.teleop.opmode == interface.HOLD, 5, 'opmode hold')
         wait_for(lambda: len(recorder.ticks) > 25, 5, 'control ticks in hold')
         self.assertEqual(recorder.zero_setpoint_ticks(), [],
@@ -78,14 +87,25 @@ class ArmFaultsTest(unittest.TestCase):
         stream = baxter.commands_since('right', start)[:STREAM_COMMANDS]
         rate_hz = (len(stream) - 1) / (stream[-1][0] - stream[0][0])
         self.assertGreater(rate_hz, 80, 'the command stream stays at ~100 Hz')
-        puppet.press(interface.BUTTON_HOLD)
+
+        # Button 1 again: feel, whose setpoints go out once per puppet sample (the state rate),
+        # not at the command rate; once more: limp.
+        puppet.press(interface.BUTTON_OPMODE)
+        wait_for(lambda: puppet.teleop.opmode == interface.FEEL, 5, 'opmode feel')
+        puppet.wait_sets(2)
+        start = time.monotonic()
+        puppet.wait_sets(20)
+        sets, setpoints = puppet.sets_since(start), recorder.setpoints_since(start)
+        self.assertLess(abs(setpoints - sets), 4, '%d setpoints in feel for %d puppet samples'
+                        % (setpoints, sets))
+        puppet.press(interface.BUTTON_OPMODE)
         wait_for(lambda: puppet.teleop.opmode == interface.LIMP, 5, 'opmode limp')
 
         # The puppet freezes while the hand moves: fault, Baxter told to stay where it is, and
         # no following after the puppet is back until a new press.
         self.assertEqual(puppet.state(), interface.FOLLOWING)
         pid = node_pid('/puppet_sim_R')
-        with swinging_hand(puppet, POSE_A):
+        with swinging_hand(puppet, HAND_POSE):
             puppet.wait_sets(15)  # Baxter follows the swinging hand
             os.kill(pid, signal.SIGSTOP)
             try:

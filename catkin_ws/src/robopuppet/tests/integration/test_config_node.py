@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """rostest: the real config node stores set_config requests all or none, publishes what it stores
 on stored_settings, still takes the 2020 joint_J/<setting> topics, serves get_config as before,
-refuses implausible values and survives a restart."""
+refuses implausible values and survives a restart; it publishes active_settings, with feel
+mode's gains from the file's [feel] section while the opmode is feel."""
 import os
 import shutil
 import tempfile
@@ -10,9 +11,9 @@ import unittest
 import roslaunch
 import rospy
 import rostest
-from std_msgs.msg import Float32
+from std_msgs.msg import Float32, String
 
-from config_testing import (FIXTURE, ConfigNodeRunner, StoredSettings, joint_values,
+from config_testing import (ACTIVE, FIXTURE, ConfigNodeRunner, StoredSettings, joint_values,
                             set_config, wait_for)
 from robopuppet import interface, settings
 from robopuppet.config import config_store
@@ -138,6 +139,61 @@ class ConfigNodeTest(ConfigNodeRunner, unittest.TestCase):
         publishers['pid_kp'].publish(Float32(2.0))
         self.assertEqual(self.wait_stored(2).joints[2].pid_kp, 2.0)
         self.assertEqual([m.revision for m in self.stored.messages()], [0, 1, 2])
+
+    def test_opmode_feel_makes_the_active_settings_gentle_and_never_reaches_the_file(self):
+        active = StoredSettings(ACTIVE)
+        self.addCleanup(active.unregister)
+        opmode = rospy.Publisher(interface.puppet_ns('R') + '/' + interface.OPMODE, String,
+                                 queue_size=10)
+        self.addCleanup(opmode.unregister)
+        self.start_node(self.path)
+        first = active.wait(0)
+        self.assertEqual((first.profile, [joint_values(j) for j in first.joints]),
+                         ('', [self.expected[j] for j in settings.JOINTS]), 'latched at start')
+        self.assertTrue(set_config(4, pid_ki=3.0, pid_kd=1.0, voltage_min=-5.0,
+                                   voltage_max=1.0).stored)
+        stored = {j: joint_values(v) for j, v in enumerate(self.wait_stored(1).joints)}
+        self.assertTrue(wait_for(lambda: opmode.get_num_connections()), 'no opmode subscriber')
+
+        def newest():
+            return wait_for(lambda: active.messages()[-1], 0.1)
+
+        def gentle(values):  # the fixture's [feel]: gain_scale 0.5, voltage_limit 3 V
+            return dict(values, pid_kp=values['pid_kp'] * 0.5, pid_ki=0.0,
+                        pid_kd=values['pid_kd'] * 0.5, voltage_min=max(values['voltage_min'],
+                                                                       -3.0),
+                        voltage_max=min(values['voltage_max'], 3.0))
+        opmode.publish(String(interface.FEEL))
+        self.assertTrue(wait_for(lambda: newest().profile == 'feel'), 'no feel profile')
+        feel = newest()
+        self.assertEqual(feel.revision, 1)
+        self.assertEqual([joint_values(j) for j in feel.joints],
+                         [gentle(stored[j]) for j in settings.JOINTS])
+        self.assertEqual((feel.joints[4].pid_ki, feel.joints[4].pid_kd, feel.joints[4].voltage_min,
+                          feel.joints[4].voltage_max), (0.0, 0.5, -3.0, 1.0))
+        count = len(active.messages())
+        opmode.publish(String(interface.FEEL))  # a repeat changes nothing
+        # A change stored in feel mode: the file gets the stored value, active its gentle one.
+        self.assertTrue(set_config(4, pid_kp=4.0).stored)
+        stored[4]['pid_kp'] = 4.0
+        self.assertEqual(joint_values(self.wait_stored(2).joints[4]), stored[4])
+        again = active.wait(2)
+        self.assertEqual((again.profile, joint_values(again.joints[4])),
+                         ('feel', gentle(stored[4])))
+        self.assertEqual(len(active.messages()), count + 1, 'the repeated feel published nothing')
+        self.assertEqual(self.on_disk(), stored, 'no feel gain in the joint sections')
+        with open(self.path) as ini:
+            self.assertEqual(config_store.parse_feel(ini.read()),
+                             ({'gain_scale': 0.5, 'voltage_limit': 3.0}, []))
+        for mode in (interface.HOLD, interface.FEEL, interface.LIMP):
+            opmode.publish(String(mode))
+            want = 'feel' if mode == interface.FEEL else ''
+            self.assertTrue(wait_for(lambda: newest().profile == want), mode)
+            self.assertEqual([joint_values(j) for j in newest().joints], [
+                gentle(stored[j]) if want else stored[j] for j in settings.JOINTS], mode)
+        opmode.publish(String('stiff'))
+        self.wait_log('WARNING', "opmode must be one of limp/hold/feel, got 'stiff'")
+        self.assertEqual(newest().profile, '')
 
 
 if __name__ == '__main__':

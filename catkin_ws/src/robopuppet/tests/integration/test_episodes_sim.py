@@ -21,9 +21,9 @@ from robopuppet.cameras import sim_cameras
 from robopuppet.episodes import recording
 from robopuppet_msgs.msg import RecordingState
 from robopuppet_msgs.srv import Record
+from hand_pose import HAND_POSE
 from teleop_harness import Baxter, PuppetArm, calibrate, max_error, wait_for
 
-POSE = [0.2, 0.4, 0.3, 1.0, -0.3, 0.6, 0.25]
 EPISODES = os.path.join(rospkg.get_ros_home(), 'robopuppet', 'episodes')
 RATE_HZ = interface.DEFAULT_COMM_RATE_HZ
 CAMERAS = interface.SIM_CAMERAS   # what main_sim renders and records
@@ -78,7 +78,7 @@ class EpisodesSimTest(unittest.TestCase):
         puppet, baxter = PuppetArm('R'), Baxter()
         wait_for(lambda: puppet.state() == interface.CALIBRATING, 30, 'arm_R calibrating')
         puppet.end_piece(False)
-        calibrate(puppet, POSE)
+        calibrate(puppet, HAND_POSE)
         wait_for(lambda: puppet.state() == interface.READY, 10, 'ready')
         wait_for(lambda: self.status is not None, 10, 'the recorder status')
         warm_up_cameras()
@@ -89,16 +89,17 @@ class EpisodesSimTest(unittest.TestCase):
         puppet.press(interface.BUTTON_RIGHT)
         wait_for(lambda: puppet.state() == interface.FOLLOWING, 5, 'following')
         for k in range(30):  # 3 s of a scripted hand trajectory at 10 Hz
-            pose = list(POSE)
-            pose[0] = POSE[0] + 0.3 * math.sin(k / 30 * 2 * math.pi)
+            pose = list(HAND_POSE)
+            pose[0] = HAND_POSE[0] + 0.3 * math.sin(k / 30 * 2 * math.pi)
             puppet.hand(pose)
             puppet.wait_sets(1)
         wait_for(lambda: max_error(baxter.arm('right'), puppet.angles) < 0.02, 20, 'Baxter on')
         puppet.end_piece(True)
         wait_for(lambda: baxter.gripper['right'].position < 5, 10, 'right gripper closed')
         puppet.end_piece(False)
-        for button in (interface.BUTTON_RIGHT, interface.BUTTON_HOLD, interface.BUTTON_HOLD):
-            puppet.press(button)  # stop following; hold; limp (two opmodes)
+        for button in (interface.BUTTON_RIGHT, interface.BUTTON_OPMODE, interface.BUTTON_OPMODE,
+                       interface.BUTTON_OPMODE):
+            puppet.press(button)  # stop following; hold; feel; limp (three opmodes)
         wait_for(lambda: puppet.teleop.opmode == interface.LIMP, 5, 'limp again')
         sets = puppet.sets_since(started)
         puppet.press(recording.RECORD_BUTTON)

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """The GUI against the simulated arm: a slider moves the simulated hand and the main tab shows
 the puppet following; the buttons and the opmode control reach the puppet, Hold keeps the
-puppet where it is, and a joint tab's Set reaches the device through config_R and serial_R."""
+puppet where it is, Feel without Baxter ends limp at once (arm_R), and a joint tab's Set reaches
+the device through config_R and serial_R."""
 import time
 import unittest
 
@@ -36,6 +37,9 @@ class GuiSimTest(unittest.TestCase):
         cls.opmodes = []
         cls.ticks = []  # (setpoints, reported angles) of each control tick in hold
         cls.device_configs = []  # (arrival s, the 84 settings the simulated device holds)
+        cls.sent_opmodes = []  # what anyone publishes on /puppet/arm_R/opmode
+        rospy.Subscriber('%s/%s' % (interface.puppet_ns('R'), interface.OPMODE), String,
+                         lambda msg: cls.sent_opmodes.append(msg.data))
         sim = interface.sim_ns('R')
         rospy.Subscriber('%s/%s' % (sim, interface.SIM_HAND), JointState, cls.hands.append)
         rospy.Subscriber('%s/%s' % (sim, interface.SIM_DEVICE_OPMODE), String,
@@ -116,6 +120,32 @@ class GuiSimTest(unittest.TestCase):
                             'setpoints %s, puppet was at %s' % (setpoints, before))
         tab.limp_radio.click()
         self.assertTrue(wait_until(lambda: self.opmodes[-1] == interface.LIMP, 10.0))
+
+    def test_feel_without_baxter_ends_limp_and_never_drives_toward_0_rad(self):
+        """Feel from the radio publishes feel (the GUI sends the current angles first, as for
+        hold); arm_R has no Baxter, so it ends feel at once (limp on opmode, DESIGN section 8):
+        the device may hold for a moment, only ever where the puppet is, and ends limp, and the
+        radios show limp."""
+        tab = self.window.main_tab
+        self.window.sim.set_hand(AWAY)
+        self.assertTrue(wait_until(self.angles_settled, 20.0), 'the puppet never settled')
+        if self.client.state.snapshot().opmode != interface.LIMP:
+            tab.limp_radio.click()
+            self.assertTrue(wait_until(lambda: self.opmodes[-1] == interface.LIMP, 10.0))
+        before, ticks_from, sent_from = self.angles(), len(self.ticks), len(self.sent_opmodes)
+        tab.feel_radio.click()
+        self.assertTrue(wait_until(lambda: self.sent_opmodes[sent_from:] == [
+            interface.FEEL, interface.LIMP], 10.0),
+            'opmode topic after feel: %s' % self.sent_opmodes[sent_from:])
+        self.assertTrue(wait_until(lambda: self.client.state.snapshot().opmode
+                                   == interface.LIMP, 5.0), 'the GUI never heard of limp')
+        time.sleep(0.5)  # a hold frame still on its way would show by now
+        self.assertEqual(self.opmodes[-1], interface.LIMP)
+        for setpoints, _ in self.ticks[ticks_from:]:  # held where it was, if at all
+            self.assertLess(max(abs(s - a) for s, a in zip(setpoints, before)), 0.02,
+                            'setpoints %s, puppet was at %s' % (setpoints, before))
+        self.window.frame()
+        self.assertTrue(tab.limp_radio.isChecked() and not tab.feel_radio.isChecked())
 
     def device_kd(self):
         """Return the D gain of TUNED_JOINT that the simulated device holds, and since when."""

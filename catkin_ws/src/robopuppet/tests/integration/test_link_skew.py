@@ -35,7 +35,8 @@ GROW_S = 0.06             # ... growing by this much per sample
 MAX_SAMPLE_AGE_S = 0.35   # arm.launch's default
 APPROACH_RAD_S = 0.5      # arm_X's default approach speed
 NEUTRAL = [baxter_description.NEUTRAL_POSE[s] for s in baxter_description.ARM_JOINT_SUFFIXES]
-POSE_A = [a + d for a, d in zip(NEUTRAL, (0.1, 0.1, -0.1, 0.1, 0.1, -0.1, 0.1))]
+# Raised from neutral (s1 -0.3): 7 cm or more from config/zones.yaml's zones up to POSE_B.
+POSE_A = [a + d for a, d in zip(NEUTRAL, (0.1, -0.3, -0.1, 0.1, 0.1, -0.1, 0.1))]
 POSE_B = [a + d for a, d in zip(POSE_A, (0.0, 0.0, 0.0, 0.4, 0.0, 0.0, 0.0))]
 
 

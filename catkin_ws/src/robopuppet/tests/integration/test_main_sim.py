@@ -10,9 +10,8 @@ import rostest
 
 from robopuppet import interface
 from robopuppet.arm.joint_motion import mirror
+from hand_pose import HAND_POSE
 from teleop_harness import Baxter, PuppetArm, calibrate, max_error, wait_for
-
-POSE_A = [0.2, 0.4, 0.3, 1.0, -0.3, 0.6, 0.25]
 
 
 class MainSimTest(unittest.TestCase):
@@ -26,7 +25,7 @@ class MainSimTest(unittest.TestCase):
                         'no joint command before calibration')
         puppet.end_piece(False)
 
-        calibrate(puppet, POSE_A)
+        calibrate(puppet, HAND_POSE)
         wait_for(lambda: puppet.state() == interface.READY, 5, 'ready')
 
         # Button 3: Baxter's right arm follows, approaching slowly, then tracks the hand.
@@ -34,9 +33,9 @@ class MainSimTest(unittest.TestCase):
         wait_for(lambda: puppet.teleop.follow_right and puppet.state() == interface.FOLLOWING, 5,
                  'following right')
         for k in range(40):  # a slow hand trajectory: a step per state set, 4 s at 10 Hz
-            pose = list(POSE_A)
-            pose[0] = POSE_A[0] + 0.3 * math.sin(k / 40 * 2 * math.pi)
-            pose[3] = POSE_A[3] + 0.2 * math.sin(k / 40 * 2 * math.pi)
+            pose = list(HAND_POSE)
+            pose[0] = HAND_POSE[0] + 0.3 * math.sin(k / 40 * 2 * math.pi)
+            pose[3] = HAND_POSE[3] + 0.2 * math.sin(k / 40 * 2 * math.pi)
             puppet.hand(pose)
             puppet.wait_sets(1)
         wait_for(lambda: max_error(baxter.arm('right'), puppet.angles) < 0.01, 20,
@@ -63,16 +62,21 @@ class MainSimTest(unittest.TestCase):
         puppet.press(interface.BUTTON_RIGHT)
         wait_for(lambda: puppet.state() == interface.READY, 5, 'ready again')
         robot = baxter.arm('right')
-        away = [a + (0.3 if j in (0, 3) else 0.0) for j, a in enumerate(POSE_A)]
+        away = [a + (0.3 if j in (0, 3) else 0.0) for j, a in enumerate(HAND_POSE)]
         puppet.hand(away)
         wait_for(lambda: max_error(puppet.angles, away) < 0.05, 10, 'puppet moved away')
         puppet.hand([math.nan] * 7)
-        puppet.press(interface.BUTTON_HOLD)
+        puppet.press(interface.BUTTON_OPMODE)
         wait_for(lambda: puppet.teleop.opmode == interface.HOLD, 5, 'opmode hold')
         wait_for(lambda: max_error(puppet.angles, robot) < 0.05, 15,
                  'puppet at Baxter pose %s (now %s)' % (robot, puppet.angles))
-        puppet.press(interface.BUTTON_HOLD)
-        wait_for(lambda: puppet.teleop.opmode == interface.LIMP, 5, 'opmode limp')
+        # Button 1 again: feel; a limp set on <ns>/opmode by another node (as the GUI does) is
+        # arm_R's opmode too.
+        puppet.press(interface.BUTTON_OPMODE)
+        wait_for(lambda: puppet.teleop.opmode == interface.FEEL, 5, 'opmode feel')
+        puppet.wait_sets(5)
+        puppet.set_opmode(interface.LIMP)
+        wait_for(lambda: puppet.teleop.opmode == interface.LIMP, 5, 'opmode limp adopted')
 
         # Follow again, then the puppet dies: commands stop within 0.5 s of its last data.
         puppet.hand(puppet.angles)

@@ -20,9 +20,9 @@ from robopuppet.episodes import export, export_files, replay_control
 from robopuppet.gui.puppet_client import PuppetClient
 from robopuppet.gui.state import ArmState
 from robopuppet.gui.window import Window
+from hand_pose import HAND_POSE
 from teleop_harness import Baxter, PuppetArm, calibrate, max_error, wait_for
 
-POSE = [0.2, 0.4, 0.3, 1.0, -0.3, 0.6, 0.25]
 SWING_S = 3.0        # the recorded hand motion
 LET_GO = [math.nan] * settings.NUM_JOINTS
 # The shipped PID gains (kp 20 V/rad, ki 10, kd 1) follow within about 0.02 rad. But each hold
@@ -55,13 +55,13 @@ class ReplayPuppetSimTest(unittest.TestCase):
                 queue_size=None)  # never drop one (callbacks in the receive thread)
         rospy.Subscriber(interface.REPLAY_STOP, Empty, lambda m: cls.keep(cls.stops, m))
         rospy.Subscriber(ns + '/' + interface.USER_BUTTON, UInt8, lambda m: (
-            cls.keep(cls.presses, m.data) if m.data == interface.BUTTON_HOLD else None))
+            cls.keep(cls.presses, m.data) if m.data == interface.BUTTON_OPMODE else None))
         rospy.Subscriber(sim + '/' + interface.SIM_DEVICE_OPMODE, String,
                          lambda m: cls.device.__setitem__('opmode', m.data))
         rospy.Subscriber(sim + '/' + interface.SIM_CONTROL, JointState,
                          lambda m: cls.device.__setitem__('setpoints', list(m.position)))
         wait_for(lambda: cls.puppet.state() == interface.CALIBRATING, 30, 'arm_R calibrating')
-        calibrate(cls.puppet, POSE)
+        calibrate(cls.puppet, HAND_POSE)
         wait_for(lambda: cls.puppet.state() == interface.READY, 10, 'arm_R ready')
         cls.bag = cls.record()
         cls.path = export.collect(export_files.read_messages(
@@ -85,7 +85,7 @@ class ReplayPuppetSimTest(unittest.TestCase):
         started = time.monotonic()
         while True:  # by the clock, so that a loaded machine does not make it longer
             phase = min((time.monotonic() - started) / SWING_S, 1.0)
-            pose = list(POSE)
+            pose = list(HAND_POSE)
             pose[0] += 0.3 * math.sin(2 * math.pi * phase)
             pose[3] += 0.3 * phase
             cls.puppet.hand(pose)
@@ -208,7 +208,7 @@ class ReplayPuppetSimTest(unittest.TestCase):
         time.sleep(0.5)  # the setpoints move
         wait_for(lambda: self.puppet.state() == interface.READY, 10, 'arm_R ready for button 1')
         pressed = time.monotonic()
-        self.puppet.press(interface.BUTTON_HOLD)
+        self.puppet.press(interface.BUTTON_OPMODE)
         self.assertEqual(process.wait(timeout=10), 1, ''.join(self.lines))
         ended_t, text = time.monotonic(), ''.join(self.lines)
         said_t = next(t for t, line in self.timed if line.startswith('replay: stopped'))
@@ -223,9 +223,10 @@ class ReplayPuppetSimTest(unittest.TestCase):
         stay = [last[j] for j in settings.JOINTS]
         print('last setpoint change %.3f s after button 1' % (changed[-1][0] - press_t))
         self.assertLess(changed[-1][0] - press_t, 0.2)
-        # The same press reaches arm_X, which holds the puppet at Baxter's pose; the playback's
-        # stay setpoints come last, so the puppet holds where it was stopped. A fault of arm_X
-        # around the press (it ignores presses then, and lets a held puppet go limp) is its call.
+        # The same press reaches arm_X, which adopted the playback's hold: its first press only
+        # makes that hold its own, sending nothing, so the puppet holds where it was stopped. A
+        # fault of arm_X around the press (it ignores presses then, and lets a held puppet go
+        # limp) is its call.
         wait_for(lambda: self.puppet.teleop.opmode == interface.HOLD or self.arm_faulted(
             press_t), 5, 'arm_R holding')
         time.sleep(0.5)

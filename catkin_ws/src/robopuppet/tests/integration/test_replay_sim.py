@@ -18,11 +18,11 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import UInt8
 
 from robopuppet import baxter_description, interface
+from hand_pose import HAND_POSE
 from teleop_harness import Baxter, PuppetArm, wait_for
 
 RATE_HZ, DURATION_S = 100.0, 3.0
 NAMES = baxter_description.arm_joint_names('right')
-HAND = [0.2, 0.4, 0.3, 1.0, -0.3, 0.6, 0.25]
 
 
 def write_episode(directory, start):
@@ -66,12 +66,12 @@ class ReplaySimTest(unittest.TestCase):
         cls.dir = tempfile.mkdtemp(prefix='replay_test_')
         cls.addClassCleanup(shutil.rmtree, cls.dir, True)
         wait_for(lambda: not any(map(math.isnan, cls.baxter.arm('right'))), 30, 'Baxter')
-        cls.puppet.hand(HAND)  # the operator's hand holds the puppet still
+        cls.puppet.hand(HAND_POSE)  # the operator's hand holds the puppet still
         wait_for(lambda: cls.puppet.angles is not None, 30, 'the puppet')
         wait_for(lambda: cls.baxter.gripper.get('right') is not None
                  and cls.baxter.gripper['right'].calibrated == 1, 30, 'the gripper calibrated')
         start = list(cls.baxter.arm('right'))
-        start[1] += 0.1  # a short approach
+        start[1] -= 0.1  # a short approach, up: the episode stays 6.9 cm from the zones
         cls.bag, cls.times, cls.path = write_episode(cls.dir, start)
 
     @classmethod
@@ -85,7 +85,7 @@ class ReplaySimTest(unittest.TestCase):
 
     @classmethod
     def _on_button(cls, msg):
-        if msg.data == interface.BUTTON_HOLD and cls.button_t is None:
+        if msg.data == interface.BUTTON_OPMODE and cls.button_t is None:
             cls.button_t = time.monotonic()
 
     def replay(self, *args):
@@ -117,7 +117,7 @@ class ReplaySimTest(unittest.TestCase):
         process = self.replay('--speed', '0.5')
         start = self.path[0]
         wait_for(lambda: abs(self.baxter.arm('right')[3] - start[3]) > 0.1, 20, 'playing')
-        self.puppet.press(interface.BUTTON_HOLD)
+        self.puppet.press(interface.BUTTON_OPMODE)
         _, err = process.communicate(timeout=10)
         self.assertEqual(process.returncode, 1, err)
         self.assertIn('button 1', err)

@@ -7,6 +7,7 @@ machine.
 import json
 import os
 import re
+import sys
 import time
 
 from robopuppet import baxter_description, interface
@@ -14,11 +15,14 @@ from robopuppet.arm import timing
 
 from netbed_testing import HELPERS
 
+sys.path.insert(0, str(HELPERS.parent.parent / 'integration'))
+from hand_pose import HAND_POSE  # noqa: E402
+
 NODE = str(HELPERS / 'ros_node.py')
 HAND = str(HELPERS / 'puppet_hand.py')
 PROBE = str(HELPERS / 'stall_probe.py')
 SIDE = 'R'
-POSE = [0.2, 0.4, 0.3, 1.0, -0.3, 0.6, 0.25]
+POSE = HAND_POSE
 COMM_RATE_HZ = 10.0
 MAX_SAMPLE_AGE_S = 0.35
 NAMES = baxter_description.arm_joint_names('right')

@@ -1,10 +1,12 @@
 """arm_X's decisions (robopuppet.arm.controller): steps, actions, report, the command loop's
 health; fed as the node feeds it, with time passed in. The operator host's clock runs
 OPERATOR_OFFSET_S ahead of the robot's, and answers the controller's pings (see Rig)."""
+import collections
+
 import pytest
 
 from robopuppet import baxter_description, interface, settings
-from robopuppet.arm import baxter_upkeep, controller, teleop, timing
+from robopuppet.arm import baxter_upkeep, controller, opmode, timing
 from robopuppet.periodic import Guard
 
 LIMITS = {side: baxter_description.arm_limits(side) for side in interface.BAXTER_SIDES}
@@ -18,12 +20,12 @@ POSE = {side: [baxter_description.NEUTRAL_POSE[s] for s in baxter_description.AR
 class Rig:
     """An ArmController of puppet R with a clock; Baxter and the puppet report as asked."""
 
-    def __init__(self, comm_rate_hz=10.0, side='R', echo=True):
+    def __init__(self, comm_rate_hz=10.0, side='R', echo=True, zone_guards=None):
         self.guard = Guard('arm_' + side, lambda text: None)
         self.core = controller.ArmController(
             side, LIMITS, timing.state_timeout(comm_rate_hz), interface.HEARTBEAT_TIMEOUT_S,
             0.5, PERIOD_S, self.guard, 0.0,
-            timing.sample_age_bound(timing.DEFAULT_MAX_SAMPLE_AGE_S))
+            timing.sample_age_bound(timing.DEFAULT_MAX_SAMPLE_AGE_S), zone_guards)
         self.t = 0.0
         self.echo = echo   # the operator host answers pings at once (2 ms each way)
         self.enabled = True
@@ -106,6 +108,41 @@ def test_the_report_goes_out_on_every_change_and_at_least_every_half_second():
     changed = report_in(rig.press(interface.BUTTON_RIGHT))
     assert changed.changed and changed.state == interface.FOLLOWING and changed.follow_right
     assert dict(changed.values)['follow_right'] == 'True'
+
+
+class Wall:
+    """A stand-in for world.zones.ZoneGuard: while `blocking`, every motion is cut at its start
+    by zone 'bed' at link right_hand."""
+
+    def __init__(self):
+        self.blocking = False
+
+    def slide(self, before, command):
+        if self.blocking:
+            return list(before), collections.namedtuple('Hit', 'zone link')('bed', 'right_hand')
+        return command, None
+
+
+def test_the_report_names_the_zone_that_holds_an_arm_back_and_changes_with_it():
+    wall = Wall()
+    rig = Rig(zone_guards={'right': wall})
+    rig.step()
+    rig.press(interface.BUTTON_RIGHT)
+    report = report_in(rig.step(0.5))
+    assert (report.zone_left, report.zone_right) == ('', '')
+    wall.blocking = True
+    held = report_in(rig.step())
+    assert held.changed and (held.zone_left, held.zone_right) == ('', 'bed')
+    assert held.detail == "held back by keep-out zone 'bed' (right_hand)"
+    assert dict(held.values)['zone_right'] == 'bed'
+    wall.blocking = False
+    free = report_in(rig.step())
+    assert free.changed and free.zone_right == ''
+    assert free.detail == 'Baxter follows with its right arm'   # the zone no longer said
+    wall.blocking = True
+    rig.step()
+    off = report_in(rig.press(interface.BUTTON_RIGHT))   # stops following: no arm held back
+    assert off.zone_right == '' and 'keep-out' not in off.detail
 
 
 @pytest.mark.parametrize('rate_hz, level, stop', [(10.0, 'OK', '0.50'), (2.0, 'WARN', '2.10')])
@@ -205,5 +242,6 @@ def test_steps_for_the_steady_stream_are_due_about_once_a_command_period():
 
 def test_teleop_actions_pass_through_in_order():
     rig = ready()
-    actions = [a for a in rig.press(interface.BUTTON_HOLD) if not isinstance(a, controller.Report)]
-    assert actions == [teleop.SetSetpoints(POSE['right']), teleop.SetOpmode(interface.HOLD)]
+    actions = [a for a in rig.press(interface.BUTTON_OPMODE)
+               if not isinstance(a, controller.Report)]
+    assert actions == [opmode.SetSetpoints(POSE['right']), opmode.SetOpmode(interface.HOLD)]

@@ -114,3 +114,58 @@ def test_arm_launch_passes_comm_rate_to_the_serial_node():
     serial = next(n for n in root.iter('node') if n.get('type') == 'serial_interface')
     params = {p.get('name'): p.get('value') for p in serial.iter('param')}
     assert params['comm_rate'] == '$(arg comm_rate)'
+
+
+def paced_writes(writes, pacer):
+    """Return (time, bytes) of writes wanted at their times, each delayed as pacer says."""
+    out = []
+    for wanted_s, data in writes:
+        at_s = max([wanted_s] + [t for t, _ in out[-1:]])
+        at_s += pacer.delay_s(at_s, len(data))
+        pacer.wrote(at_s, len(data))
+        out.append((at_s, data))
+    return out
+
+
+def test_paced_writes_never_lose_a_frame_to_merged_usb_packets():
+    # A hold's 60 bytes (seven filled setpoints and the opmode), then arm_X's seven setpoints
+    # from their topics at once: written back to back, a prompt reader of the pty gets 116
+    # bytes that arrived within 1 ms, cut every 64 bytes, so one setpoint straddles two packets.
+    from test_puppet_wire import deliver, prompt_polls
+    plan = b''.join(codec.encode(codec.JointSetpoint(j, 0.0625)) for j in settings.JOINTS)
+    plan += codec.encode(codec.Opmode(codec.HOLD))
+    wanted = [0.125 + j / 64.0 for j in settings.JOINTS]
+    writes = [(0.0102, plan)] + [(0.0103 + j * 1e-5, codec.encode(codec.JointSetpoint(j, a)))
+                                 for j, a in enumerate(wanted)]
+    assert deliver(writes, prompt_polls(0.05)).setpoint_rad != wanted, 'the bug this prevents'
+    paced = paced_writes(writes, dc.WritePacer())
+    assert paced[1][0] >= paced[0][0] + dc.LOAD_PAUSE_S  # the group of 60 bytes was full
+    assert all(t == paced[1][0] for t, _ in paced[2:]), 'then no more waiting'
+    firmware = deliver(paced, prompt_polls(0.05))
+    assert firmware.setpoint_rad == wanted and firmware.opmode == codec.HOLD
+
+
+def test_the_pacer_lets_small_or_spaced_writes_go_at_once():
+    pacer = dc.WritePacer(packet_bytes=64, gap_s=0.005)
+    for k in range(8):  # 8-byte writes 1 ms apart: 64 bytes, one packet
+        assert pacer.delay_s(1.0 + k * 0.001, 8) == 0.0
+        pacer.wrote(1.0 + k * 0.001, 8)
+    assert pacer.delay_s(1.0075, 8) == pytest.approx(0.0045)  # the 65th byte: 5 ms after
+    assert pacer.delay_s(1.012, 63) == 0.0  # 5 ms after the group's last write
+    pacer.wrote(1.012, 63)
+    assert pacer.delay_s(1.013, 1) == 0.0 and pacer.delay_s(1.013, 2) == pytest.approx(0.004)
+
+
+def test_the_feel_watch_times_out_only_in_feel_counting_from_the_last_setpoint():
+    watch = dc.FeelWatch(0.5)
+    watch.on_setpoint(1.0)
+    assert not watch.active and watch.expired(100.0) is None and watch.due_s == float('inf')
+    watch.start(10.0)
+    assert watch.active and watch.due_s == 10.5
+    watch.on_setpoint(10.4)
+    assert watch.expired(10.8) is None
+    assert watch.expired(10.9) == pytest.approx(0.5)
+    watch.stop()
+    assert watch.expired(20.0) is None and not watch.active
+    with pytest.raises(ValueError):
+        dc.FeelWatch(0.0)

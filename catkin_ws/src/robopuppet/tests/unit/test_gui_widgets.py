@@ -135,7 +135,8 @@ def test_stale_heartbeat_turns_red(window, client):
 
 
 def test_teleop_and_serial_link(window, client):
-    client.state.on_teleop(state.Teleop('following', False, True, 'hold', 0.3, 'ok', 99.0))
+    client.state.on_teleop(state.Teleop('following', False, True, 'hold', 0.3, 'ok', '', '',
+                                        99.0))
     client.state.on_link(state.Link(2, 'serial_R: /dev/pts/3', 'no data for 3 s',
                                      (('frames dropped', '12'),), 99.0))
     window.frame()
@@ -148,9 +149,117 @@ def test_teleop_and_serial_link(window, client):
     assert main_tab.RED in tab.link_label.styleSheet()
 
 
-def test_opmode_radio_publishes(qtbot, window, client):
-    qtbot.mouseClick(window.main_tab.hold_radio, QtCore.Qt.LeftButton)
-    assert client.published == [('opmode', 'hold')]
+def test_each_opmode_radio_publishes_its_mode(qtbot, window, client):
+    tab = window.main_tab
+    for radio in (tab.hold_radio, tab.feel_radio, tab.limp_radio, tab.feel_radio):
+        qtbot.mouseClick(radio, QtCore.Qt.LeftButton)
+    assert client.published == [('opmode', 'hold'), ('opmode', 'feel'), ('opmode', 'limp'),
+                                ('opmode', 'feel')]
+    client.state.on_opmode('feel', 100.0)  # the mode arrives back: only feel is checked
+    window.frame()
+    assert [r.isChecked() for r in (tab.limp_radio, tab.hold_radio, tab.feel_radio)] == [
+        False, False, True]
+
+
+@pytest.mark.parametrize('mode, first', [('hold', [('setpoint', 2, 0.4)]),
+                                         ('feel', [('setpoint', 2, 0.4)]), ('limp', [])])
+def test_the_client_sends_the_current_angles_before_hold_and_feel(mode, first):
+    sent = []
+    fake = types.SimpleNamespace(
+        state=state.ArmState(), set_setpoint=lambda j, a: sent.append(('setpoint', j, a)),
+        _opmode_pub=types.SimpleNamespace(publish=lambda msg: sent.append(('opmode', msg.data))))
+    fake.state.on_angle(2, 0.4, 1.0)  # the other joints' angles are unknown: no setpoint
+    puppet_client.PuppetClient.set_opmode(fake, mode)
+    assert sent == first + [('opmode', mode)]
+
+
+BAXTER_ARM = {'left': [0.3, -0.2, 0.5, 1.0, -0.4, 0.9, 1.2],
+              'right': [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]}
+PUPPET_RAD = [-0.31, -0.2, -0.6, 1.0, 0.45, 0.9, -1.5]
+
+
+def robot_joints(arm_state, now_s):
+    names = ['%s_%s' % (side, j) for side in ('left', 'right')
+             for j in ('s0', 's1', 'e0', 'e1', 'w0', 'w1', 'w2')]
+    arm_state.on_robot_joints(names, BAXTER_ARM['left'] + BAXTER_ARM['right'], now_s)
+
+
+def feel_teleop(follow_left, follow_right, zone_left='', zone_right='', received_s=99.0):
+    return state.Teleop('following', follow_left, follow_right, 'feel', 0.1, '', zone_left,
+                        zone_right, received_s)
+
+
+def column(table, col):
+    return [table.item(row, col).text() for row in range(table.rowCount())]
+
+
+def test_error_columns_compare_with_the_mirrored_arm_the_puppet_drives(window, client):
+    arm = client.state
+    for joint, angle in enumerate(PUPPET_RAD):
+        arm.on_angle(joint, angle, 99.9)
+    robot_joints(arm, 99.9)
+    arm.on_teleop(feel_teleop(True, False))  # puppet R drives Baxter's left arm: mirrored
+    window.frame()
+    table = window.main_tab.joint_table
+    assert table.horizontalHeaderItem(main_tab.BAXTER_COLUMN).text() == \
+        'Baxter (rad)\nleft, mirrored'
+    assert column(table, main_tab.BAXTER_COLUMN) == [
+        '-0.300', '-0.200', '-0.500', '+1.000', '+0.400', '+0.900', '-1.200']
+    # puppet - mirrored Baxter; an unmirrored comparison would give -0.61, -1.10, +0.85, -2.70
+    assert column(table, main_tab.ERROR_COLUMN) == [
+        '-0.010', '+0.000', '-0.100', '+0.000', '+0.050', '+0.000', '-0.300']
+    colours = [background(table.item(r, main_tab.ERROR_COLUMN)) for r in (0, 2, 6)]
+    assert colours == [QtGui.QColor(c).name() for c in (main_tab.GREEN, main_tab.AMBER,
+                                                        main_tab.RED)]
+    arm.on_teleop(feel_teleop(True, True))  # both follow: its own side, as is
+    window.frame()
+    assert table.horizontalHeaderItem(main_tab.BAXTER_COLUMN).text() == \
+        'Baxter (rad)\nright arm'
+    assert column(table, main_tab.ERROR_COLUMN)[6] == '-1.500'
+    hold = feel_teleop(False, False)._replace(opmode='hold')
+    arm.on_teleop(hold)  # neither follows, in hold: numbers, but no judgement
+    window.frame()
+    assert column(table, main_tab.ERROR_COLUMN)[6] == '-1.500'
+    assert background(table.item(6, main_tab.ERROR_COLUMN)) == background(table.item(6, 1))
+    arm.on_teleop(feel_teleop(False, False))  # in feel the puppet pulls toward it: judged
+    window.frame()
+    assert background(table.item(6, main_tab.ERROR_COLUMN)) == QtGui.QColor(main_tab.RED).name()
+    arm.on_teleop(feel_teleop(True, True))
+    client.time_s = 101.5  # Baxter's pose is 1.6 s old: not shown
+    window.frame()
+    assert set(column(table, main_tab.ERROR_COLUMN)) == {'—'}
+    assert 'unknown' in window.main_tab.tracking_label.text()
+
+
+def test_every_row_of_the_joint_table_shows_under_the_two_line_header(window):
+    table = window.main_tab.joint_table
+    last = table.rowCount() - 1
+    assert table.rowViewportPosition(last) + table.rowHeight(last) <= table.viewport().height()
+
+
+def test_the_line_names_the_zone_or_says_baxter_lags(window, client):
+    arm, tab = client.state, window.main_tab
+    for joint, angle in enumerate(PUPPET_RAD):
+        arm.on_angle(joint, angle, 99.9)
+    robot_joints(arm, 100.0)
+    arm.on_teleop(feel_teleop(True, False, zone_left='patient head'))
+    window.frame()
+    assert tab.tracking_label.text() == "keep-out zone 'patient head' holds back Baxter's left arm"
+    assert main_tab.AMBER in tab.tracking_label.styleSheet()
+    arm.on_teleop(feel_teleop(True, False))  # out of the zone; joint 6 still 0.3 rad off
+    window.frame()
+    assert tab.tracking_label.text() == 'Baxter tracks the puppet'  # not for long yet
+    client.time_s = 100.6
+    robot_joints(arm, 100.6)
+    window.frame()
+    client.time_s = 101.1
+    robot_joints(arm, 101.1)
+    window.frame()
+    assert tab.tracking_label.text() == 'Baxter lags: left arm, joint 6 off by -0.30 rad'
+    assert main_tab.RED in tab.tracking_label.styleSheet()
+    arm.on_angle(6, -1.2, 101.1)  # the puppet gives way: caught up
+    window.frame()
+    assert tab.tracking_label.text() == 'Baxter tracks the puppet'
 
 
 def test_only_the_visible_tab_redraws(window, client):

@@ -20,7 +20,7 @@ LAYERS = {
     'arm': {'world'},
     'puppet_sim': {'protocol'},
     'calibration': set(),
-    'gui': {'calibration', 'config', 'episodes', 'puppet_sim'},
+    'gui': {'arm', 'calibration', 'config', 'episodes', 'puppet_sim'},
     'ghost': {'arm'},
     'episodes': {'arm', 'config'},
     'cameras': {'world'},

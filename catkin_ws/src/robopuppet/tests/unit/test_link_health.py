@@ -49,7 +49,7 @@ def health(**changes):
     (dict(connected=False, silent=True, loaded=False), lh.ERROR, 'link down: /dev/ttyACM0'),
     (dict(silent=True, loaded=False), lh.ERROR, 'device silent'),
     (dict(loaded=False, revision=None, publishers=0), lh.WARN,
-     'waiting for settings: none received on %s yet (0 publishers)' % interface.STORED_SETTINGS),
+     'waiting for settings: none received on %s yet (0 publishers)' % interface.ACTIVE_SETTINGS),
     (dict(loaded=False, heartbeat_age_s=None), lh.WARN, 'loading settings (revision 3)'),
     (dict(heartbeat_age_s=interface.HEARTBEAT_TIMEOUT_S + 0.1, publishers=0), lh.WARN,
      'no heartbeat'),

@@ -154,6 +154,21 @@ def test_the_opmode_is_published_when_it_changes_and_ticks_only_in_hold():
     assert [t.time_s for t in step.ticks] == pytest.approx([0.12, 0.14, 0.16, 0.18, 0.2])
 
 
+def test_hand_torque_comes_with_each_state_set_and_holds_the_limp_arm_up():
+    device, line = PuppetDevice(state_rate_hz=10.0), Line()
+    torques = [device.advance(0.01 * i, line.write_some).hand_torque for i in range(201)]
+    sent = [i for i, torque in enumerate(torques) if torque is not None]
+    assert len(sent) in (19, 20) and all(9 <= b - a <= 11 for a, b in zip(sent, sent[1:]))
+    arm, last = device.firmware.arm, torques[sent[-1]]
+    # Limp at rest: the hand alone holds the arm against gravity (up to static friction).
+    for joint in settings.JOINTS:
+        assert last[joint] == pytest.approx(-arm.gravity_nm[joint], abs=0.061)
+    assert abs(last[1]) > 0.1  # joint 1 carries the arm: a torque stuck at 0 would fail
+    device.set_hand(['joint_1'], [math.nan])
+    torques = [device.advance(2.0 + 0.01 * i, line.write_some).hand_torque for i in range(1, 12)]
+    assert {t[1] for t in torques if t is not None} == {0.0}  # let go: nothing
+
+
 def test_frames_for_a_joint_out_of_range_are_counted_when_the_count_changes():
     device, line = PuppetDevice(), Line()
     assert device.advance(0.0, line.write_some).ignored is None

@@ -5,6 +5,8 @@ import pytest
 
 from robopuppet import settings
 from robopuppet.protocol import codec
+from robopuppet.puppet_sim.puppet_arm import (COULOMB_FRICTION_NM, NOMINAL_VOLTAGE_V,
+                                              STALL_TORQUE_NM)
 from robopuppet.puppet_sim.puppet_model import (POWER_ON_SETTINGS, QUAD_JOINTS, REST_POSE_RAD,
                                                 PuppetFirmware)
 
@@ -205,6 +207,36 @@ def test_firm_hand_wins_against_hold():
     last = [m for m in states(out) if m.joint == 1][-1]
     assert last.angle_rad == pytest.approx(-0.5, abs=0.15)
     assert last.voltage_v == pytest.approx(7.2, abs=1e-3)  # the motor pushes back, saturated
+
+
+def hand_against_hold(voltage_limit_v):
+    """Hold joint 1 at rest with a saturating P gain while the hand pulls it to -0.5 rad;
+    return (firmware, hand torque N m on joint 1, motor voltage V) after 3 s."""
+    firmware = loaded(pid_kp=20.0)
+    configure(firmware, 1, voltage_min=-voltage_limit_v, voltage_max=voltage_limit_v)
+    t, _ = run(firmware, 0.0, 0.3)
+    firmware.handle(codec.JointSetpoint(1, REST_POSE_RAD[1]))
+    firmware.handle(codec.Opmode(codec.HOLD))
+    firmware.set_hand({1: -0.5, 2: math.nan})
+    run(firmware, t, 3.0)
+    return firmware, firmware.arm.hand_torque_nm[1], firmware.arm.motor_voltage_v[1]
+
+
+@pytest.mark.parametrize('voltage_limit_v', [1.0, 2.0, 7.2])
+def test_hand_torque_balances_the_servo_and_gravity(voltage_limit_v):
+    firmware, hand_nm, motor_v = hand_against_hold(voltage_limit_v)
+    assert motor_v == pytest.approx(voltage_limit_v, abs=1e-3)  # saturated, pushing back
+    servo_nm = STALL_TORQUE_NM[1] * motor_v / NOMINAL_VOLTAGE_V
+    # At rest: hand + gravity + servo = 0 up to the joint's static friction.
+    assert abs(hand_nm + firmware.arm.gravity_nm[1] + servo_nm) <= COULOMB_FRICTION_NM[1] + 1e-6
+    assert firmware.arm.hand_torque_nm[2] == 0.0  # let go: the hand exerts nothing
+
+
+def test_hand_torque_grows_with_the_servo_voltage_it_meets():
+    weak = hand_against_hold(1.0)[1]
+    strong = hand_against_hold(2.0)[1]
+    assert weak < 0.0 and strong < weak  # pulling toward -0.5 rad, harder against 2 V
+    assert weak - strong == pytest.approx(STALL_TORQUE_NM[1] / NOMINAL_VOLTAGE_V, abs=0.13)
 
 
 def test_bare_hold_keeps_setpoint_zero_and_drives_toward_it():

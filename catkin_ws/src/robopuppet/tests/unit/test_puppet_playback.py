@@ -9,7 +9,7 @@ from robopuppet import settings
 from robopuppet.episodes import puppet_playback as pp
 from robopuppet.episodes.export import Recording, Samples
 from robopuppet.episodes.replay import APPROACH, FINISHED, PLAY, STOPPED, ReplayError
-from robopuppet.interface import BUTTON_HOLD, BUTTON_RIGHT, HOLD, LIMP, UNCALIBRATED, WORKING
+from robopuppet.interface import BUTTON_OPMODE, BUTTON_RIGHT, HOLD, LIMP, UNCALIBRATED, WORKING
 
 PERIOD_S = 0.02
 START = [0.1, -0.3, 0.2, 1.0, -0.1, 0.5, 0.0]
@@ -167,7 +167,7 @@ def test_stored_limits_that_are_no_range_are_refused():
 
 
 @pytest.mark.parametrize('stop, why', [
-    (lambda core, t: core.on_button(t, 'R', BUTTON_HOLD), 'button 1 pressed on puppet arm R'),
+    (lambda core, t: core.on_button(t, 'R', BUTTON_OPMODE), 'button 1 pressed on puppet arm R'),
     (lambda core, t: core.stop(t, 'stop requested'), 'stop requested'),
     (lambda core, t: core.on_status(t, 'R', 2, UNCALIBRATED), 'joint 2 is Uncalibrated'),
 ])
@@ -209,7 +209,7 @@ def test_button_1_then_arm_x_releasing_the_puppet_it_held_leaves_it_limp():
     core = ready(ramp())
     core.start(0.0)
     run(core, 0.0, 1.0)
-    core.on_button(1.0, 'R', BUTTON_HOLD)
+    core.on_button(1.0, 'R', BUTTON_OPMODE)
     assert core.step(1.02).setpoints                     # the stay goes out at once
     core.on_opmode(1.03, 'R', LIMP, '/arm_R')            # arm_X's toggle of a held puppet
     assert core.step(1.04) == pp.Step(STOPPED, {}, {})

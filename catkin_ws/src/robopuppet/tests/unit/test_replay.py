@@ -8,7 +8,7 @@ import pytest
 from robopuppet import baxter_description
 from robopuppet.episodes import replay
 from robopuppet.episodes.export import Samples
-from robopuppet.interface import BAXTER_SIDES, BUTTON_HOLD, BUTTON_RIGHT
+from robopuppet.interface import BAXTER_SIDES, BUTTON_OPMODE, BUTTON_RIGHT
 
 LIMITS = {side: baxter_description.arm_limits(side) for side in BAXTER_SIDES}
 PERIOD_S = 0.01
@@ -123,7 +123,7 @@ def test_gripper_goes_keep_in_step_with_the_arm():
 
 
 @pytest.mark.parametrize('stop_rule, why', [
-    (lambda core, t: core.on_button(t, BUTTON_HOLD), 'button 1'),
+    (lambda core, t: core.on_button(t, BUTTON_OPMODE), 'button 1'),
     (lambda core, t: core.stop(t, 'stop requested'), 'stop requested'),
     (lambda core, t: core.on_puppet(t, 'R', [0.0, 0.0, 0.0, 0.15, 0.0, 0.0, 0.0]), 'moved'),
     (lambda core, t: core.on_robot_enabled(t, False), 'disabled'),
@@ -159,7 +159,7 @@ def test_harmless_readings_do_not_stop():
     assert core.phase != replay.STOPPED
     run(core, 0.5, 3.0)
     assert core.phase == replay.FINISHED
-    core.on_button(3.0, BUTTON_HOLD)  # after the end a stop changes nothing
+    core.on_button(3.0, BUTTON_OPMODE)  # after the end a stop changes nothing
     assert core.phase == replay.FINISHED and core.step(3.1).commands == {}
 
 

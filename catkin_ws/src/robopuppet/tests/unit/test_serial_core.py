@@ -7,7 +7,7 @@ from robopuppet import interface, settings
 from robopuppet.protocol import codec, link_health, serial_core, state_output as out
 
 PORT = '/dev/ttyACM0'
-SOURCE = '/puppet/arm_L/stored_settings'
+SOURCE = '/puppet/arm_L/active_settings'
 STORED = [(j, dict(settings.DEFAULTS, home_angle=0.25, pid_kp=2.0)) for j in settings.JOINTS]
 
 
@@ -177,13 +177,13 @@ def values_of(diagnostics):
     return dict(diagnostics.values)
 
 
-def test_diagnostics_say_whether_stored_settings_arrived_their_revision_and_publishers():
+def test_diagnostics_say_whether_active_settings_arrived_their_revision_and_publishers():
     rig = Rig()
     rig.core.on_connect()
     diagnostics = rig.step(publishers=0).diagnostics
     values = values_of(diagnostics)
     assert diagnostics.level == link_health.WARN and 'waiting for settings' in diagnostics.message
-    assert (values['port'], values['stored settings'], values['stored settings publishers'],
+    assert (values['port'], values['active settings'], values['active settings publishers'],
             values['settings loaded']) == (PORT, 'none yet', '0', 'False')
     rig.core.on_stored(7, STORED)
     rig.settle()
@@ -193,7 +193,7 @@ def test_diagnostics_say_whether_stored_settings_arrived_their_revision_and_publ
     diagnostics = rig.step().diagnostics
     values = values_of(diagnostics)
     assert (diagnostics.level, diagnostics.message) == (link_health.OK, 'link up')
-    assert (values['stored settings'], values['settings loaded']) == ('revision 7', 'True')
+    assert (values['active settings'], values['settings loaded']) == ('revision 7', 'True')
     assert rig.step().diagnostics is None  # at most once a second
 
 

@@ -4,9 +4,10 @@ import math
 import pytest
 
 from robopuppet import baxter_description, interface
-from robopuppet.arm import joint_motion, teleop, timing
-from robopuppet.interface import (BAXTER_SIDES, BUTTON_HOLD, BUTTON_LEFT, BUTTON_RIGHT,
-                                  CALIBRATING, FAULT, FOLLOWING, HOLD, LIMP, NO_ROBOT, READY)
+from robopuppet.arm import joint_motion, opmode, teleop, timing
+from robopuppet.interface import (BAXTER_SIDES, BUTTON_OPMODE, BUTTON_LEFT, BUTTON_RIGHT,
+                                  CALIBRATING, FAULT, FEEL, FOLLOWING, HOLD, LIMP, NO_ROBOT,
+                                  READY)
 
 WORKING = [interface.WORKING] * 7
 ONE_UNCALIBRATED = WORKING[:2] + [interface.UNCALIBRATED] + WORKING[3:]
@@ -77,7 +78,7 @@ def apply(rig, name):
     elif name == 'press_follow':
         return rig.press(BUTTON_RIGHT)
     elif name == 'press_hold':
-        return rig.press(BUTTON_HOLD)
+        return rig.press(BUTTON_OPMODE)
     return rig.step()
 
 
@@ -116,16 +117,20 @@ def test_calibrating_detail_names_the_joints_to_turn():
     assert rig.tp.detail == 'joint 2 Uncalibrated: turn each through its index mark'
 
 
-def test_hold_only_when_calibrated_and_with_robot_pose_as_setpoints():
+def test_button_1_cycles_limp_hold_feel_only_when_calibrated_setpoints_first():
     rig = enter(READY)
     pose = {'left': [0.0] * 7, 'right': [0.3, -0.4, 0.5, 1.0, -0.2, 0.9, 0.1]}
     rig.robot(pose=pose)
-    actions = rig.press(BUTTON_HOLD).actions
+    actions = rig.press(BUTTON_OPMODE).actions
     # Setpoints first: the firmware holds whatever setpoints it has when hold arrives.
-    assert actions == [teleop.SetSetpoints(pose['right']), teleop.SetOpmode(HOLD)]
-    assert rig.press(BUTTON_HOLD).actions == [teleop.SetOpmode(LIMP)]
+    assert actions == [opmode.SetSetpoints(pose['right']), opmode.SetOpmode(HOLD)]
+    assert rig.press(BUTTON_OPMODE).actions == [opmode.SetSetpoints(pose['right']),
+                                                opmode.SetOpmode(FEEL)]
+    assert rig.tp.opmode == FEEL
+    assert rig.press(BUTTON_OPMODE).actions == [opmode.SetOpmode(LIMP)]
+    assert rig.tp.opmode == LIMP
     calibrating = enter(CALIBRATING)
-    assert calibrating.press(BUTTON_HOLD).actions == []
+    assert calibrating.press(BUTTON_OPMODE).actions == []
     assert calibrating.tp.opmode == LIMP
 
 
@@ -133,7 +138,7 @@ def test_left_puppet_holds_to_left_arm():
     rig = Rig('L')
     rig.robot(pose={'left': [0.5] * 7, 'right': [-0.5] * 7})
     rig.step()
-    assert rig.press(BUTTON_HOLD).actions[0] == teleop.SetSetpoints([0.5] * 7)
+    assert rig.press(BUTTON_OPMODE).actions[0] == opmode.SetSetpoints([0.5] * 7)
 
 
 def test_button_acts_once_per_press_however_long_it_is_held():
@@ -265,9 +270,9 @@ def test_watchdog_catches_a_missing_heartbeat_and_needs_a_new_press():
 
 def test_fault_lets_a_holding_puppet_go_limp():
     rig = enter(READY)
-    rig.press(BUTTON_HOLD)
+    rig.press(BUTTON_OPMODE)
     assert rig.tp.opmode == HOLD
-    assert rig.step(1.0, feed=False).actions == [teleop.SetOpmode(LIMP)]
+    assert rig.step(1.0, feed=False).actions == [opmode.SetOpmode(LIMP)]
 
 
 def test_end_piece_closes_and_opens_the_following_grippers_only():
@@ -390,11 +395,11 @@ def test_nan_from_baxter_is_ignored():
 def test_entering_hold_sends_the_setpoints_once_before_the_opmode():
     rig = enter(READY)
     actions = []
-    rig.tp.on_button(rig.t, BUTTON_HOLD)
+    rig.tp.on_button(rig.t, BUTTON_OPMODE)
     for _ in range(100):
         actions += rig.step().actions
         rig.tp.on_button(rig.t, 0)
-    assert actions == [teleop.SetSetpoints(NEUTRAL['right']), teleop.SetOpmode(HOLD)]
+    assert actions == [opmode.SetSetpoints(NEUTRAL['right']), opmode.SetOpmode(HOLD)]
 
 
 def test_a_joint_never_seen_valid_keeps_baxter_from_following():
@@ -435,8 +440,8 @@ def test_a_robot_pose_out_of_its_limits_is_not_believed():
     rig.robot(pose={'left': NEUTRAL['left'], 'right': [1e39] * 7})
     rig.robot(pose={'left': NEUTRAL['left'], 'right': [0.0, 0.0, 0.0, 4.0, 0.0, 0.0, 0.0]})
     assert rig.tp.robot.ignored_poses == 2
-    actions = rig.press(BUTTON_HOLD).actions
-    assert actions[0] == teleop.SetSetpoints(NEUTRAL['right'])  # the last believable pose
+    actions = rig.press(BUTTON_OPMODE).actions
+    assert actions[0] == opmode.SetSetpoints(NEUTRAL['right'])  # the last believable pose
 
 
 def test_stopping_to_follow_tells_baxter_to_stay_where_it_is():

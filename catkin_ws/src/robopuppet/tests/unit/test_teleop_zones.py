@@ -55,6 +55,7 @@ def test_a_following_arm_is_held_at_a_zone_and_follows_again_out_of_it():
     assert guard.clearance(commands[-1]).min() < zones.NEAR_M   # at the boundary ...
     assert np.linalg.norm(right_tip(commands[-1]) - right_tip(REACHING)) > 0.08   # ... not in
     assert tp.zone_hits['right'].zone == 'ball'
+    assert (tp.zones.zone('left'), tp.zones.zone('right')) == ('', 'ball')
     assert tp.detail == "held back by keep-out zone 'ball' (%s)" % tp.zone_hits['right'].link
     assert tp.zone_hits['right'].link in ('right_gripper_base', 'r_gripper_l_finger',
                                           'r_gripper_r_finger', 'right_hand')
@@ -62,4 +63,5 @@ def test_a_following_arm_is_held_at_a_zone_and_follows_again_out_of_it():
     assert all(guard.clearance(c).min() > 0.0 for c in commands)
     np.testing.assert_allclose(commands[-1], NEUTRAL, atol=1e-9)
     assert tp.zone_hits['right'] is None
+    assert tp.zones.zone('right') == ''
     assert tp.detail == 'Baxter follows with its right arm'

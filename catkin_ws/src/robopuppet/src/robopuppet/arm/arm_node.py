@@ -11,7 +11,8 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool, Empty, Float32, String, UInt8
 
 from robopuppet import baxter_description, interface as ifc, params, settings
-from robopuppet.arm import baxter_upkeep, controller, link_topics, teleop, timing, zone_topics
+from robopuppet.arm import (baxter_upkeep, controller, link_topics, opmode as puppet_mode,
+                            timing, zone_topics)
 from robopuppet.periodic import Guard, Loop
 from robopuppet_msgs.msg import TeleopState
 
@@ -25,18 +26,23 @@ def param(name, default, minimum=0.0):
 
 
 class ArmNode:
-    """Follow the puppet with Baxter's arms and grippers; drive the puppet in hold mode.
+    """Follow the puppet with Baxter's arms and grippers; drive the puppet in hold and feel.
 
     Steps run on puppet joint states and at least at ~command_rate, on a command loop checked by
     a watchdog thread (robopuppet.periodic: exceptions are logged, counted and survived).
 
     ROS API (<ns>: interface.puppet_ns(~arm_side), e.g. /puppet/arm_R; <side>: left, right):
       Subscribes: <ns>/joint_states (by name joint_0..joint_6), <ns>/joint_J/enc_stat,
-        <ns>/heartbeat, <ns>/user_btn, <ns>/gripper_3 (the end-piece button), the other puppet's
+        <ns>/heartbeat, <ns>/user_btn (button 1 cycles the opmode limp -> hold -> feel -> limp),
+        <ns>/gripper_3 (the end-piece button), <ns>/opmode (std_msgs/String: the opmode others
+        set, adopted; its own messages and repeats change nothing), the other puppet's
         teleop_state, /robot/state, /robot/joint_states, /robot/end_effector/<side>_gripper/state.
       Publishes: /robot/limb/<side>/joint_command (position mode), /robot/set_super_enable,
-        /robot/end_effector/<side>_gripper/command, <ns>/opmode, <ns>/joint_J/setpoint,
-        <ns>/teleop_state (latched), /diagnostics (name 'arm_X: teleoperation', hardware_id <ns>).
+        /robot/end_effector/<side>_gripper/command, <ns>/opmode (limp, hold, feel),
+        <ns>/joint_J/setpoint (std_msgs/Float32, rad: Baxter's pose on entering hold; in feel
+        Baxter's pose mapped back, once per puppet sample; see arm.opmode), <ns>/teleop_state
+        (latched; zone_left/zone_right name a zone holding an arm back), /diagnostics (name
+        'arm_X: teleoperation', hardware_id <ns>).
       The link to the operator host (arm.link_topics): publishes <ns>/link_ping
         (robopuppet_msgs/LinkPing, 10 Hz, tcp_nodelay) and subscribes <ns>/link_echo (serial_X
         answers each ping with its own clock); publishes <ns>/link_state (robopuppet_msgs/
@@ -86,9 +92,9 @@ class ArmNode:
             controller.Enable: lambda a: enable.publish(Bool(True)),
             controller.ArmCommand: lambda a: arm[a.side].publish(JointCommand(
                 mode=JointCommand.POSITION_MODE, command=a.angles, names=a.names)),
-            teleop.SetOpmode: lambda a: opmode.publish(String(a.mode)),
-            teleop.SetSetpoints: lambda a: [p.publish(Float32(angle))
-                                            for p, angle in zip(setpoints, a.angles)],
+            puppet_mode.SetOpmode: lambda a: opmode.publish(String(a.mode)),
+            puppet_mode.SetSetpoints: lambda a: [p.publish(Float32(angle))
+                                                 for p, angle in zip(setpoints, a.angles)],
             baxter_upkeep.GripperCommand: lambda a: gripper[a.side].publish(EndEffectorCommand(
                 id=a.id, command=a.command, args=a.args, sender=rospy.get_name(),
                 sequence=a.sequence)),
@@ -102,6 +108,7 @@ class ArmNode:
         sub(ns + '/' + ifc.JOINT_STATES, JointState, lambda m: call(  # received: before the lock
             self._on_joint_states, m, link_topics.ros_now_s()), tcp_nodelay=True)
         sub(ns + '/' + ifc.HEARTBEAT, Empty, lambda m: call(tp.on_heartbeat))
+        sub(ns + '/' + ifc.OPMODE, String, lambda m: self._on_opmode(m, ns + '/' + ifc.OPMODE))
         sub(ns + '/' + ifc.USER_BUTTON, UInt8, lambda m: call(tp.on_button, m.data))
         sub(ifc.gripper_topic(side, ifc.END_PIECE_GRIPPER), Float32,
             lambda m: call(tp.on_end_piece, m.data))
@@ -136,6 +143,14 @@ class ArmNode:
             rospy.logwarn_throttle(5, '%s: %s', self._name, problem)
         if taken:  # act on fresh data at once
             self._guard.call('step on joint states', self._step, now)
+
+    def _on_opmode(self, msg, topic):
+        """Adopt the opmode others set; this node's own messages come back here too: skipped."""
+        if msg._connection_header.get('callerid') == rospy.get_name():
+            return
+        problem = self._call(self._core.teleop.on_opmode, msg.data)
+        if problem:
+            rospy.logwarn('%s: %s on %s', self._name, problem, topic)
 
     def _on_gripper_state(self, now, side, msg):
         calibrated = msg.calibrated == EndEffectorState.STATE_TRUE
@@ -174,7 +189,8 @@ class ArmNode:
         if r.changed:
             rospy.loginfo('%s: %s (%s)', self._name, r.state, r.detail)
         msg = TeleopState(state=r.state, follow_left=r.follow_left, follow_right=r.follow_right,
-                          opmode=r.opmode, heartbeat_age=r.heartbeat_age_s, detail=r.detail)
+                          opmode=r.opmode, heartbeat_age=r.heartbeat_age_s, detail=r.detail,
+                          zone_left=r.zone_left, zone_right=r.zone_right)
         msg.header.stamp = rospy.Time.now()
         self._pub_state.publish(msg)
         self._pub_diag.publish(DiagnosticArray(header=msg.header, status=[DiagnosticStatus(

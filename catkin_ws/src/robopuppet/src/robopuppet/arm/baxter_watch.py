@@ -51,6 +51,13 @@ class BaxterWatch:
             else:
                 self.ignored_poses += 1
 
+    def pose_age(self, side, t):
+        """Return how old (s) the believable pose of Baxter's arm on `side` is at time t, or
+        None when none came."""
+        if side not in self.pose:
+            return None
+        return t - self._motion[side][0]
+
     def now(self, side, t):
         """Return where Baxter's arm on `side` is at time t, within its limits, or None if unknown.
 

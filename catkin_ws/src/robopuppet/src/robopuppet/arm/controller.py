@@ -34,8 +34,8 @@ Enable.__doc__ = 'Ask Baxter to enable (/robot/set_super_enable).'
 ArmCommand = collections.namedtuple('ArmCommand', 'side names angles')
 ArmCommand.__doc__ = "Command Baxter's arm on `side` to 7 joint positions (rad) of its joint names."
 Report = collections.namedtuple('Report', 'changed state follow_left follow_right opmode '
-                                          'heartbeat_age_s detail diag_name hardware_id level '
-                                          'message values')
+                                          'heartbeat_age_s detail zone_left zone_right '
+                                          'diag_name hardware_id level message values')
 Report.__doc__ = """The teleop report: changed (it differs from the last one: log it), the
 TeleopState fields, and the DiagnosticStatus's name, hardware_id, level ('OK', 'WARN' or
 'ERROR'), message and values [(key, text)]."""
@@ -143,8 +143,8 @@ class ArmController:
     def step(self, t):
         """Advance to t; return the actions to carry out in order, then call done(t).
 
-        The actions: Enable, an ArmCommand per commanded arm, teleop's SetOpmode and
-        SetSetpoints, a baxter_upkeep.GripperCommand per teleop Grip, and last a Report when
+        The actions: Enable, an ArmCommand per commanded arm, teleop's opmode.SetOpmode and
+        opmode.SetSetpoints, a baxter_upkeep.GripperCommand per teleop Grip, and last a Report when
         one is due.
         """
         ready = self.baxter.ready(t)
@@ -192,7 +192,9 @@ class ArmController:
     def _report(self, t):
         tp = self.teleop
         follow_left, follow_right = (tp.following[side] for side in BAXTER_SIDES)
-        snapshot = (tp.state, follow_left, follow_right, tp.opmode, tp.detail)
+        zone_left, zone_right = (tp.zones.zone(side) for side in BAXTER_SIDES)
+        snapshot = (tp.state, follow_left, follow_right, tp.opmode, tp.detail, zone_left,
+                    zone_right)
         changed = snapshot != self._reported
         if not changed and t - self._report_t < STATE_PERIOD_S:
             return None
@@ -203,7 +205,7 @@ class ArmController:
             message += '; ' + late.describe()
         values = [
             ('state', tp.state), ('follow_left', follow_left), ('follow_right', follow_right),
-            ('opmode', tp.opmode),
+            ('opmode', tp.opmode), ('zone_left', zone_left), ('zone_right', zone_right),
             ('heartbeat_age_s', '%.2f' % tp.heartbeat_age(t)),
             ('comm_rate_hz', '%g' % self.timing.comm_rate_hz),
             ('state_timeout_s', '%.2f' % self.timing.timeout_s),
@@ -214,5 +216,6 @@ class ArmController:
             ('refused_joint_states', self.refused_states),
             ('callback_errors', self.guard.errors), ('last_error', self.guard.last_error)]
         return Report(changed, tp.state, follow_left, follow_right, tp.opmode,
-                      tp.heartbeat_age(t), tp.detail, self.diag_name, self.hardware_id, level,
-                      message, [(key, str(value)) for key, value in values])
+                      tp.heartbeat_age(t), tp.detail, zone_left, zone_right, self.diag_name,
+                      self.hardware_id, level, message,
+                      [(key, str(value)) for key, value in values])

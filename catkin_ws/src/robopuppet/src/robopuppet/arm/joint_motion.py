@@ -12,6 +12,20 @@ def mirror(angles):
     return [-a if j in MIRRORED_JOINTS else a for j, a in enumerate(angles)]
 
 
+def driven_arm(own_side, follow_left, follow_right):
+    """Return the Baxter arm ('left' or 'right') whose pose a puppet feels and shows: the only
+    one following it, else the arm on its own side (own_side) when both or neither follow."""
+    if follow_left != follow_right:
+        return 'left' if follow_left else 'right'
+    return own_side
+
+
+def in_puppet_space(own_side, arm, angles):
+    """Return Baxter arm `arm`'s angles (rad) as a puppet on Baxter's side own_side takes them:
+    as they are on its own side, mirrored on the other (mirror is its own inverse)."""
+    return list(angles) if arm == own_side else mirror(angles)
+
+
 def clamp(angles, limits):
     """Return angles clamped to limits, a sequence of objects with lower and upper (rad)."""
     return [min(max(a, lim.lower), lim.upper) for a, lim in zip(angles, limits)]

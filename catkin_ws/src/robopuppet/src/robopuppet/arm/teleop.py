@@ -1,10 +1,11 @@
 """Teleoperation state machine of one puppet arm: pure, time as an argument.
 
-The arm node feeds it puppet data (joint states, heartbeats, buttons, the end-piece reading) and
-Baxter's state, calls step(t) at its command rate, and carries out what step returns: joint
-positions for each following Baxter arm and actions (opmode, puppet setpoints, grippers). The
-states are robopuppet_msgs/TeleopState's (interface.TELEOP_STATES); README.md, "Operating the
-puppet", describes them as the operator sees them.
+The arm node feeds it puppet data (joint states, heartbeats, buttons, the end-piece reading),
+the opmode others set and Baxter's state, calls step(t) on each puppet sample and at its command
+rate, and carries out what step returns: joint positions for each following Baxter arm and
+actions (opmode, puppet setpoints, grippers). The states are robopuppet_msgs/TeleopState's
+(interface.TELEOP_STATES); README.md, "Operating the puppet", describes them as the operator sees
+them. Button 1 and the puppet's opmode (limp, hold, feel) are robopuppet.arm.opmode's.
 
 Safety: Baxter follows nothing until all seven puppet encoders report Working and every joint
 has sent a valid angle; every command is clamped to Baxter's joint limits and moves at a bounded
@@ -15,7 +16,8 @@ an arm stops following (the puppet's joint states or heartbeat stop or arrive to
 joint loses calibration, a press, the arm controller itself fails) the arm is commanded to stay
 where Baxter measures it at once, so it does not coast on to a stale target, and following
 resumes only after fresh data and a new press; a Baxter arm that the other puppet drives is not
-taken, and if both puppets claim one at once, both let it go.
+taken, and if both puppets claim one at once, both let it go. In feel the puppet goes limp on a
+fault, without Baxter or without a fresh Baxter pose (see robopuppet.arm.opmode).
 """
 import collections
 import math
@@ -23,50 +25,25 @@ import math
 from robopuppet.arm import timing
 from robopuppet.arm.baxter_watch import BaxterWatch
 from robopuppet.arm.joint_motion import SpeedBudget, clamp, mirror
+from robopuppet.arm.opmode import PuppetOpmode
 from robopuppet.arm.puppet_watch import REFUSED, PuppetWatch
-from robopuppet.interface import (BAXTER_SIDE, BAXTER_SIDES, BUTTON_HOLD, BUTTON_LEFT,
+from robopuppet.arm.transitions import STOP_FOLLOWING, TRANSITIONS
+from robopuppet.arm.zone_holds import ZoneHolds
+from robopuppet.interface import (BAXTER_SIDE, BAXTER_SIDES, BUTTON_LEFT, BUTTON_OPMODE,
                                   BUTTON_RIGHT, CALIBRATING, FAULT, FOLLOWING,
-                                  HEARTBEAT_TIMEOUT_S, HOLD, LIMP, NO_ROBOT, READY, check_side)
+                                  HEARTBEAT_TIMEOUT_S, NO_ROBOT, READY, check_side)
 
 FOLLOW_BUTTON = dict(zip((BUTTON_LEFT, BUTTON_RIGHT), BAXTER_SIDES))  # button -> Baxter's arm
 GRIP_PRESSED_BELOW, GRIP_RELEASED_ABOVE = 0.3, 0.7  # end-piece reading, with hysteresis
-ZONE_HELD = "held back by keep-out zone '%s' (%s)"   # the detail while a zone cuts commands
 CLAIM_EXPIRY_S = 1.5       # the other puppet's claim on an arm lasts this long unless renewed
 
-# (state, event) -> next state. Events not listed for a state leave it unchanged.
-TRANSITIONS = {
-    (NO_ROBOT, 'robot_ok'): CALIBRATING,
-    (CALIBRATING, 'robot_lost'): NO_ROBOT,
-    (CALIBRATING, 'calibrated'): READY,
-    (CALIBRATING, 'silent'): FAULT,
-    (READY, 'robot_lost'): NO_ROBOT,
-    (READY, 'uncalibrated'): CALIBRATING,
-    (READY, 'follow_on'): FOLLOWING,
-    (READY, 'silent'): FAULT,
-    (FOLLOWING, 'robot_lost'): NO_ROBOT,
-    (FOLLOWING, 'uncalibrated'): CALIBRATING,
-    (FOLLOWING, 'follow_off'): READY,
-    (FOLLOWING, 'silent'): FAULT,
-    (FAULT, 'robot_lost'): NO_ROBOT,
-    (FAULT, 'fresh'): CALIBRATING,
-}
-# From any state but these, the arm controller's own failure is a fault.
-for _state in (CALIBRATING, READY, FOLLOWING):
-    TRANSITIONS[_state, 'controller_failed'] = FAULT
-# Following is switched off on entering these states.
-STOP_FOLLOWING = (NO_ROBOT, CALIBRATING, READY, FAULT)
-
-SetOpmode = collections.namedtuple('SetOpmode', 'mode')
-SetOpmode.__doc__ = 'Send the puppet opmode `mode` (limp or hold).'
-SetSetpoints = collections.namedtuple('SetSetpoints', 'angles')
-SetSetpoints.__doc__ = 'Send the puppet seven joint setpoints (rad).'
 Grip = collections.namedtuple('Grip', 'side close')
 Grip.__doc__ = "Close (close=True) or open Baxter's gripper on `side`."
 Step = collections.namedtuple('Step', 'commands actions')
 Step.__doc__ = """What to do now: commands {side: 7 joint positions rad} for the following
 arms, and for an arm that has just stopped following its measured pose (stay there); empty when
-nothing may move. actions: a list of SetOpmode, SetSetpoints and Grip, in the order to carry
-them out."""
+nothing may move. actions: a list of opmode.SetOpmode, opmode.SetSetpoints and Grip, in the
+order to carry them out."""
 
 
 class Teleop:
@@ -86,7 +63,7 @@ class Teleop:
             motion, so one command may carry speed x command_period_s at once.
         zone_guards: {side: world.zones.ZoneGuard} of the arms that keep-out zones bind: each
             command of a following arm is cut where its motion from the last command would
-            enter a zone, and the speed budget goes on from the cut command (see zone_hits).
+            enter a zone, and the speed budget goes on from the cut command (see zone_holds).
     Joint states that may not be used (too old, of unknown age, out of order) go to on_refused;
     of unknown age (stale=True), the puppet counts as silent until usable ones come; too old
     (late=True), they are dropped, and name the silence when no usable ones come.
@@ -96,9 +73,8 @@ class Teleop:
                  heartbeat_timeout_s=HEARTBEAT_TIMEOUT_S, approach_speed_rad_s=0.5,
                  track_tolerance_rad=0.02, command_period_s=0.01, zone_guards=None):
         self.own_side = BAXTER_SIDE[check_side(puppet_side)]
-        self.zone_guards = zone_guards or {}
-        self.zone_hits = {side: None for side in BAXTER_SIDES}  # the zone holding an arm back
-        self._zone_said = False    # the detail names a zone
+        self.zones = ZoneHolds(zone_guards)
+        self.zone_hits = self.zones.hits   # side -> the zone hit holding the arm back, None
         self.limits = limits
         self.puppet = PuppetWatch(state_timeout_s, heartbeat_timeout_s)
         self.robot = BaxterWatch(limits)
@@ -107,7 +83,6 @@ class Teleop:
         self.command_period_s = command_period_s
         self.state = NO_ROBOT
         self.detail = 'waiting for Baxter'
-        self.opmode = LIMP
         self.following = {side: False for side in BAXTER_SIDES}
         self.tracking = {side: False for side in BAXTER_SIDES}  # False while approaching
         self.gripper_closed = False
@@ -126,6 +101,12 @@ class Teleop:
         self.on_heartbeat = self.puppet.on_heartbeat
         self.heartbeat_age = self.puppet.heartbeat_age
         self.on_robot_pose = self.robot.on_robot_pose
+        self.puppet_mode = PuppetOpmode(self.own_side, self.robot)
+
+    @property
+    def opmode(self):
+        """The puppet's opmode as arm_X knows it: limp, hold or feel."""
+        return self.puppet_mode.mode
 
     # ---- inputs --------------------------------------------------------------------------
 
@@ -134,6 +115,11 @@ class Teleop:
         if button != self._button and button != 0:
             self._pressed.append(button)
         self._button = button
+
+    def on_opmode(self, t, mode):
+        """Take the opmode others set on <ns>/opmode (limp, hold or feel; a repeat changes
+        nothing); return '' or a warning to log when it is no opmode (ignored)."""
+        return self.puppet_mode.on_opmode(mode)
 
     def on_end_piece(self, t, reading):
         """Take the end-piece button reading (gripper 3: about 1 released, 0 pressed)."""
@@ -207,25 +193,12 @@ class Teleop:
         for button in self._pressed:
             if self.state not in (READY, FOLLOWING):
                 continue  # a press in any other state does nothing, not even later
-            if button == BUTTON_HOLD:
-                self._toggle_hold(t, actions)
+            if button == BUTTON_OPMODE:
+                why = self.puppet_mode.press(t, self.following, self.puppet.state_t, actions)
+                self.detail = why or self.detail
             elif button in FOLLOW_BUTTON:
                 self._toggle_follow(FOLLOW_BUTTON[button], t)
         self._pressed = []
-
-    def _toggle_hold(self, t, actions):
-        if self.opmode == LIMP:
-            pose = self.robot.pose.get(self.own_side)
-            if pose is None:
-                return
-            self.opmode = HOLD
-            # The firmware holds the setpoints it has (0 rad after limp): the puppet's setpoints
-            # go first, then hold, so that the puppet moves to the robot and nowhere else.
-            actions.append(SetSetpoints(list(pose)))
-            actions.append(SetOpmode(HOLD))
-        else:
-            self.opmode = LIMP
-            actions.append(SetOpmode(LIMP))
 
     def _toggle_follow(self, side, t):
         if self.following[side]:
@@ -280,10 +253,8 @@ class Teleop:
                       else min(self.approach_speed_rad_s, lim.velocity)
                       for lim in self.limits[side]]
             before = self._motion[side].command
-            command = self._motion[side].move(target, speeds, t)
-            if side in self.zone_guards:
-                command, self.zone_hits[side] = self.zone_guards[side].slide(before, command)
-                self._motion[side].command = command
+            command = self.zones.cut(side, before, self._motion[side].move(target, speeds, t))
+            self._motion[side].command = command
             if max(abs(c - g) for c, g in zip(command, target)) <= self.track_tolerance_rad:
                 self.tracking[side] = True
             commands[side] = command
@@ -311,28 +282,20 @@ class Teleop:
         for event, detail in self._events(t):
             self._fire(event, detail)
         actions = []
-        if self.state == FAULT and self.opmode == HOLD:
-            # A silent puppet gets no setpoints: let it go limp, as a reconnect does anyway.
-            self.opmode = LIMP
-            actions.append(SetOpmode(LIMP))
         self._drop_contested_arms(t)
         self._act_on_presses(t, actions)
+        went_limp = self.puppet_mode.step(t, self.state, self.following, self.puppet.state_t,
+                                          actions)
+        if went_limp:
+            self.detail = '%s; %s' % (self.detail, went_limp)
         self._grip_actions(actions)
+        held_before = self.zones.holding()
         commands = self._commands_now(t) if self.state == FOLLOWING else {}
-        self._zone_detail()
+        self.zones.forget(self.following)
+        held = self.zones.detail()
+        if held:
+            self.detail = held
+        elif held_before and self.state == FOLLOWING:
+            self._after_follow_change('')   # the zone said so: say who follows again
         commands.update(self._stay_commands(t, was_following))
         return Step(commands, actions)
-
-    def _zone_detail(self):
-        """Say in the detail which keep-out zone holds which arm back, and stop saying it when
-        none does."""
-        for side in BAXTER_SIDES:
-            if not self.following[side]:
-                self.zone_hits[side] = None
-        held = [ZONE_HELD % (hit.zone, hit.link)
-                for hit in (self.zone_hits[s] for s in BAXTER_SIDES) if hit is not None]
-        if held:
-            self.detail = '; '.join(held)
-        elif self._zone_said and self.state == FOLLOWING:
-            self._after_follow_change('')
-        self._zone_said = bool(held)

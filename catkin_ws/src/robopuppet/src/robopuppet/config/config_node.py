@@ -4,10 +4,10 @@ import time
 
 import rospkg
 import rospy
-from std_msgs.msg import Float32
+from std_msgs.msg import Float32, String
 
 from robopuppet import interface, settings
-from robopuppet.config import config_file, config_store
+from robopuppet.config import config_file, config_store, feel_profile
 from robopuppet.config.settings_keeper import SettingsKeeper
 from robopuppet_msgs.msg import ArmSettings, JointSettings
 from robopuppet_msgs.srv import GetConfig, GetConfigResponse, SetConfig, SetConfigResponse
@@ -23,8 +23,14 @@ class ConfigNode:
         twelve settings of a joint; a joint outside 0..6 is a service error naming the range.
     Publishes: <ns>/stored_settings (robopuppet_msgs/ArmSettings, latched): all seven joints,
         at start and after every change written to the file; revision counts those changes.
+        <ns>/active_settings (robopuppet_msgs/ArmSettings, latched; serial_X loads it into the
+        device): at the same moments and whenever the profile changes, the same revision;
+        profile '' = the stored settings, 'feel' (while <ns>/opmode is feel) = those with the
+        file's [feel] gains laid over them (feel_profile.feel_joint), never written to the file.
     Subscribes: <ns>/joint_J/<setting> (std_msgs/Float32), J = 0..6 and the twelve settings of
         settings.SETTINGS (the 2020 topics): each message is a one-setting set_config request.
+        <ns>/opmode (std_msgs/String: limp, hold or feel): feel selects the feel profile, limp
+        and hold the stored one; a repeat of the current mode changes nothing.
     Every refusal is logged: a warning for a refused value, an error when the change would not
     persist. While the file cannot be written (read-only directory, full disk at start) every
     request is refused with that reason.
@@ -35,9 +41,11 @@ class ConfigNode:
         ~seed_file (str, default ''): the file copied when the live file does not exist yet,
             normally the package's config/arm_<side>.ini.
     The node owns the file while it runs: edit it by hand only while the node is stopped.
-    A damaged file is backed up and repaired once at start. A file that cannot be read, or cannot
-    be written although it must be repaired or created, leaves the node serving what it could
-    read (or the defaults), refusing every change, until it is restarted.
+    The [feel] section (gain_scale, voltage_limit) is read at start only; a file without it
+    gets the defaults. A damaged file (a bad [feel] value too) is backed up and repaired once
+    at start. A file that cannot be read, or cannot be written although it must be repaired or
+    created, leaves the node serving what it could read (or the defaults), refusing every
+    change, until it is restarted.
     """
 
     def __init__(self):
@@ -59,14 +67,21 @@ class ConfigNode:
         self._keeper = SettingsKeeper(loaded.config, loaded.text, loaded.unwritable, path,
                                       config_file.write_atomic)
         self._lock = threading.Lock()  # one request at a time; publishes in revision order
-        self._stored_pub = rospy.Publisher('%s/%s' % (self._ns, interface.STORED_SETTINGS),
-                                           ArmSettings, queue_size=1, latch=True)
+        self._feel = config_store.parse_feel(loaded.text)[0]
+        rospy.loginfo('%s: feel mode gains from %s: %s', self._ns, path, ', '.join(
+            '%s = %s' % (n, config_store.format_value(v)) for n, v in self._feel.items()))
+        self._profile = ''  # of active_settings: '' or feel_profile.PROFILE
+        self._stored_pub, self._active_pub = (
+            rospy.Publisher('%s/%s' % (self._ns, topic), ArmSettings, queue_size=1, latch=True)
+            for topic in (interface.STORED_SETTINGS, interface.ACTIVE_SETTINGS))
         with self._lock:
             self._publish()
         self._subscribers = [
             rospy.Subscriber(interface.joint_topic(side, joint, name), Float32, self._on_setting,
                              callback_args=(joint, name), queue_size=100)
             for joint in settings.JOINTS for name in settings.NAMES]
+        self._subscribers.append(rospy.Subscriber('%s/%s' % (self._ns, interface.OPMODE), String,
+                                                  self._on_opmode, queue_size=10))
         self._services = [
             rospy.Service('%s/%s' % (self._ns, interface.SET_CONFIG), SetConfig,
                           self._set_config),
@@ -109,13 +124,32 @@ class ConfigNode:
             rospy.logwarn('%s: refused %s; file and settings unchanged', self._ns, answer.error)
         return answer
 
-    def _publish(self):
-        """Publish all stored settings; call with the lock held."""
+    def _on_opmode(self, msg):
+        if msg.data not in interface.OPMODES:
+            rospy.logwarn('%s: opmode must be one of %s, got %r; settings profile unchanged',
+                          self._ns, '/'.join(interface.OPMODES), msg.data)
+            return
+        profile = feel_profile.PROFILE if msg.data == interface.FEEL else ''
+        with self._lock:
+            if profile == self._profile:
+                return
+            self._profile = profile
+            self._publish(stored=False)
+        rospy.loginfo('%s: opmode %s: active_settings are %s', self._ns, msg.data,
+                      'the feel profile' if profile else 'the stored settings')
+
+    def _publish(self, stored=True):
+        """Publish active_settings, and (if stored) stored_settings; call with the lock held."""
         revision, joints = self._keeper.all_joints()
-        msg = ArmSettings(revision=revision, joints=[
-            JointSettings(joint=joint, **values) for joint, values in enumerate(joints)])
-        msg.header.stamp = rospy.Time.now()
-        self._stored_pub.publish(msg)
+        stamp = rospy.Time.now()
+        for publisher, profile, values in (
+                (self._stored_pub, '', joints),
+                (self._active_pub, self._profile,
+                 feel_profile.active_joints(self._profile, joints, self._feel)))[not stored:]:
+            msg = ArmSettings(revision=revision, profile=profile, joints=[
+                JointSettings(joint=joint, **v) for joint, v in enumerate(values)])
+            msg.header.stamp = stamp
+            publisher.publish(msg)
 
 
 def main():

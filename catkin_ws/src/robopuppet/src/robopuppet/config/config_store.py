@@ -1,18 +1,22 @@
 """Joint settings of one puppet arm: validation, ini parsing and comment-preserving edits.
 
 Pure: no file or ROS access. The ini text is `[joint_0]` ... `[joint_6]`, each with the twelve
-options of settings.SETTINGS as `name = value`. Lines starting with '#' or ';' are comments, and
-a value may carry an inline comment after whitespace ('angle_min = -1.2  ; soft stop').
+options of settings.SETTINGS as `name = value`, and `[feel]` with settings.FEEL_SETTINGS (feel
+mode's gentle gains; a file without it reads as the defaults and gets it on its next write).
+Lines starting with '#' or ';' are comments, and a value may carry an inline comment after
+whitespace ('angle_min = -1.2  ; soft stop').
 """
 import math
 import re
-import struct
 
 from robopuppet import settings
+from robopuppet.config import feel_profile
+from robopuppet.config.float32 import format_value, to_float32
 
 _SECTION_RE = re.compile(r'^\s*\[\s*([^\]]*?)\s*\]\s*$')
 _OPTION_RE = re.compile(r'^(\s*)([A-Za-z_]\w*)(\s*[=:]\s*)(.*?)(\s+[#;].*)?\s*$')
 _COMMENT_RE = re.compile(r'^\s*([#;].*)?$')
+FEEL = settings.FEEL_SECTION  # the [feel] section's key where a joint's index would be
 
 
 class InvalidSetting(ValueError):
@@ -111,25 +115,6 @@ def implausible(name, value):
     return ''
 
 
-def to_float32(value):
-    """Return value rounded to float32, as the wire and GetConfig carry it (inf if too large)."""
-    try:
-        return struct.unpack('<f', struct.pack('<f', value))[0]
-    except OverflowError:
-        return math.copysign(math.inf, value)
-
-
-def format_value(value):
-    """Return the shortest plain decimal text that reads back as the same float32 ('0.1', '10')."""
-    target = struct.pack('<f', value)
-    for digits in range(1, 18):
-        number = float('%.*g' % (digits, value))
-        if struct.pack('<f', number) == target:
-            text = repr(number)  # plain notation where Python uses it: 10.0, not 1e+01
-            return text[:-2] if text.endswith('.0') else text
-    return repr(value)
-
-
 def _lines(text):
     """Yield (index, kind, match) for each line: kind is section, option, comment or junk."""
     for index, line in enumerate(text.splitlines()):
@@ -146,12 +131,13 @@ def _lines(text):
 def _entries(text):
     """Yield (index, kind, match, joint, problem) for each line of an ini text.
 
-    joint is the joint whose value a section or option line holds, or None when the line is
-    ignored: an unknown section, a repeated [joint_N] section and everything in it, a repeated or
-    unknown option. The first occurrence always wins, for reading and for writing alike. problem
-    says why a line is ignored, or is None.
+    joint is the joint whose value a section or option line holds (FEEL in [feel]), or None
+    when the line is ignored: an unknown section, a repeated [joint_N] section and everything
+    in it, a repeated or unknown option. The first occurrence always wins, for reading and for
+    writing alike. problem says why a line is ignored, or is None.
     """
     known_sections = {settings.section(j): j for j in settings.JOINTS}
+    known_sections[FEEL] = FEEL
     seen_sections, seen_options = set(), set()
     joint, section = None, None
     for index, kind, match in _lines(text):
@@ -174,7 +160,7 @@ def _entries(text):
                 problem = 'line %d: option outside any section ignored' % (index + 1)
             elif joint is None:
                 pass  # inside an ignored section, which is reported already
-            elif name not in settings.CONFIG_ID:
+            elif name not in _names(joint):
                 problem = '[%s] %s: unknown option ignored' % (section, name)
             elif (joint, name) in seen_options:
                 problem = 'line %d: repeated option %s in [%s] ignored' % (index + 1, name,
@@ -205,7 +191,7 @@ def parse(text):
     for index, kind, match, joint, problem in _entries(text):
         if problem:
             problems.append(problem)
-        if kind == 'section' and joint is not None:
+        if kind == 'section' and joint is not None and joint != FEEL:
             seen_sections.add(settings.section(joint))
         elif kind == 'option' and joint is not None:
             raw[(joint, match.group(2))] = match.group(4)
@@ -242,7 +228,21 @@ def parse(text):
                                 % (sec, low, values[low], high, values[high]))
                 values[low] = to_float32(settings.DEFAULTS[low])
                 values[high] = to_float32(settings.DEFAULTS[high])
-    return config, problems
+    return config, problems + feel_profile.feel_values(
+        {name: text for (key, name), text in raw.items() if key == FEEL})[1]
+
+
+def _names(key):
+    """Return the option names of a joint's section, or of [feel] for key FEEL."""
+    return settings.FEEL_NAMES if key == FEEL else settings.CONFIG_ID
+
+
+def parse_feel(text):
+    """Return ({name: value} of the [feel] section, problems) (see feel_profile.feel_values);
+    parse reports the same problems among the file's others."""
+    raw = {match.group(2): match.group(4) for _, kind, match, key, _ in _entries(text)
+           if kind == 'option' and key == FEEL}
+    return feel_profile.feel_values(raw)
 
 
 def render(text, config, only=None):
@@ -252,11 +252,13 @@ def render(text, config, only=None):
     torn and other non-ini lines, unknown and repeated sections with what they hold (comments
     included), repeated and unknown options, options outside any section.
 
+    The [feel] section is written with parse_feel's values of `text` (a bad value repaired).
+
     Args:
         text: the current ini text (may be empty or not an ini at all).
         config: {joint: {name: value}}, complete for every joint and setting.
         only: optional set of (joint, name) to write; other option lines are left as they are.
-            Missing options and sections are always added.
+            Missing options and sections (the [feel] section too) are always added.
     Returns:
         The new ini text, ending with a newline.
     """
@@ -264,6 +266,8 @@ def render(text, config, only=None):
     if 'section' not in kinds and kinds - {'comment'}:
         text = ''  # not an ini: start afresh (the caller keeps a backup of the original)
     lines = text.splitlines()
+    config = dict(config)
+    config[FEEL] = parse_feel(text)[0]
     keep = [True] * len(lines)
     written = set()
     section_last = {}  # joint -> index of its section's last line that holds an option
@@ -286,20 +290,21 @@ def render(text, config, only=None):
                 lines[index] = '%s%s%s%s%s' % (lead, name, sep,
                                                format_value(config[joint][name]), comment)
     missing = {section_last[joint]: ['%s = %s' % (name, format_value(config[joint][name]))
-                                     for name in settings.NAMES if (joint, name) not in written]
+                                     for name in _names(joint) if (joint, name) not in written]
                for joint in section_last}
     out = []
     for index, line in enumerate(lines):
         if keep[index]:
             out.append(line)
         out.extend(missing.get(index, ()))
-    for joint in settings.JOINTS:
+    for joint in settings.JOINTS + (FEEL,):
         if joint not in section_last:
             if out and out[-1].strip():
                 out.append('')
-            out.append('[%s]' % settings.section(joint))
+            out.extend(feel_profile.INTRO + ['[%s]' % FEEL] if joint == FEEL
+                       else ['[%s]' % settings.section(joint)])
             out.extend('%s = %s' % (name, format_value(config[joint][name]))
-                       for name in settings.NAMES)
+                       for name in _names(joint))
     return '\n'.join(out) + '\n'
 
 

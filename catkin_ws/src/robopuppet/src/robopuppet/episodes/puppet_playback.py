@@ -31,7 +31,7 @@ from robopuppet import settings
 from robopuppet.arm.joint_motion import SpeedBudget, all_finite, clamp
 from robopuppet.episodes.replay import (APPROACH, FINISHED, MAX_SPEED, PLAY, STOPPED,
                                         ReplayError)
-from robopuppet.interface import (BUTTON_HOLD, HEARTBEAT_TIMEOUT_S, HOLD, LIMP, UNCALIBRATED,
+from robopuppet.interface import (BUTTON_OPMODE, HEARTBEAT_TIMEOUT_S, HOLD, LIMP, UNCALIBRATED,
                                   WORKING)
 
 APPROACH_SPEED_RAD_S = 0.3     # setpoint speed on the way to the first recorded pose
@@ -142,8 +142,8 @@ class PuppetPlayback:
 
     def on_button(self, t, side, button):
         """Take a puppet arm's user button reading (0 none, 1..4); button 1 stops."""
-        if side in self.paths and button == BUTTON_HOLD:
-            self.stop(t, 'button %d pressed on puppet arm %s' % (BUTTON_HOLD, side))
+        if side in self.paths and button == BUTTON_OPMODE:
+            self.stop(t, 'button %d pressed on puppet arm %s' % (BUTTON_OPMODE, side))
 
     def on_opmode(self, t, side, mode, sender):
         """Take an opmode that another node (sender) sent a played side: a limp stops the

@@ -18,7 +18,7 @@ import numpy as np
 
 from robopuppet.arm.baxter_watch import BaxterWatch
 from robopuppet.arm.joint_motion import SpeedBudget, all_finite, clamp
-from robopuppet.interface import BUTTON_HOLD
+from robopuppet.interface import BUTTON_OPMODE
 
 MAX_SPEED = 2.0                 # the fastest speed factor; the velocity limits apply on top
 APPROACH_SPEED_RAD_S = 0.3      # joint speed on the way to the start pose (capped per joint)
@@ -114,8 +114,8 @@ class Replay:
 
     def on_button(self, t, button):
         """Take the puppet's user button reading (0 none, 1..4); button 1 stops the replay."""
-        if button == BUTTON_HOLD:
-            self.stop(t, 'button %d pressed' % BUTTON_HOLD)
+        if button == BUTTON_OPMODE:
+            self.stop(t, 'button %d pressed' % BUTTON_OPMODE)
 
     def on_following(self, t, following):
         """Take whether the puppet drives a Baxter arm (teleop_state); that stops the replay."""

@@ -43,7 +43,8 @@ def main():
     Node gui_X (see Window, PuppetClient and SimPuppetClient for the topics):
     Subscribes: /puppet/arm_X/{heartbeat, opmode, teleop_state, user_btn, gripper_G,
         joint_J/enc_stat, joint_J/angle, joint_J/voltage, joint_J/setpoint, link_state},
-        /diagnostics; while the Cameras tab shows, the chosen camera's
+        /diagnostics; /robot/joint_states from the robot host (queue 1: the newest sample
+        only, for the tracking error); while the Cameras tab shows, the chosen camera's
         /cameras/<name>/image/compressed (see CameraClient).
     Publishes: /puppet/arm_X/opmode, /puppet/arm_X/joint_J/setpoint; with ~sim_puppet also
         /puppet_sim/arm_X/{hand, button, grippers} (latched).

@@ -5,7 +5,7 @@ import math
 from PyQt5 import QtCore, QtGui, QtWidgets
 
 from robopuppet import interface, settings
-from robopuppet.gui import link_view, state
+from robopuppet.gui import link_view, state, tracking
 from robopuppet.gui.link_box import LinkBox
 from robopuppet.gui.recording_box import RecordingBox
 
@@ -17,11 +17,20 @@ LINK_LEVEL = {0: ('OK', GREEN), 1: ('WARN', AMBER), 2: ('ERROR', RED), 3: ('STAL
 TELEOP_COLOUR = {interface.CALIBRATING: AMBER, interface.READY: BLUE, interface.FOLLOWING: GREEN,
                  interface.FAULT: RED}
 GRIPPER_NAMES = ('gripper 0', 'gripper 1', 'gripper 2', 'end piece')
+ERROR_COLOUR = {tracking.SMALL: GREEN, tracking.MEDIUM: AMBER, tracking.LARGE: RED}
+LINE_COLOUR = {tracking.ZONE: AMBER, tracking.LAGS: RED, tracking.TRACKS: GREEN,
+               tracking.IDLE: GREY}
+BAXTER_COLUMN, ERROR_COLUMN = 3, 4
 
 
 def number(value, digits=3):
     """Return value with fixed digits, or '—' when it is unknown (NaN)."""
     return '—' if value is None or math.isnan(value) else '%+.*f' % (digits, value)
+
+
+def baxter_header(arm, mirrored):
+    """Return the Baxter column's header: two lines, so that it fits the column."""
+    return 'Baxter (rad)\n%s' % ('%s, mirrored' % arm if mirrored else '%s arm' % arm)
 
 
 def paint(widget, colour):
@@ -30,7 +39,12 @@ def paint(widget, colour):
 
 
 class MainTab(QtWidgets.QWidget):
-    """Show one arm's state; the opmode buttons publish through `client.set_opmode`."""
+    """Show one arm's state; the opmode buttons publish through `client.set_opmode`.
+
+    The joint table shows, beside the puppet's angles, Baxter's measured angles of the arm this
+    puppet drives mapped into puppet space and the error puppet - Baxter (gui.tracking); the
+    line under it names the keep-out zone holding Baxter back, or says Baxter lags.
+    """
 
     def __init__(self, client, parent=None):
         super().__init__(parent)
@@ -45,25 +59,34 @@ class MainTab(QtWidgets.QWidget):
         self.button_label = QtWidgets.QLabel()
         self.limp_radio = QtWidgets.QRadioButton(interface.LIMP)
         self.hold_radio = QtWidgets.QRadioButton(interface.HOLD)
-        self.limp_radio.clicked.connect(lambda: client.set_opmode(interface.LIMP))
-        self.hold_radio.clicked.connect(lambda: client.set_opmode(interface.HOLD))
-        self.joint_table = self._table(['encoder', 'angle (rad)', 'voltage (V)'],
+        self.feel_radio = QtWidgets.QRadioButton(interface.FEEL)
+        self.feel_radio.setToolTip("hold with gentle gains, set to Baxter's pose: the puppet "
+                                   'pulls back where Baxter cannot follow')
+        self.opmode_radios = ((self.limp_radio, interface.LIMP), (self.hold_radio, interface.HOLD),
+                              (self.feel_radio, interface.FEEL))
+        for radio, mode in self.opmode_radios:
+            radio.clicked.connect(lambda _=False, mode=mode: client.set_opmode(mode))
+        self.joint_table = self._table(['encoder', 'angle (rad)', 'voltage (V)',
+                                        baxter_header('right', False), 'error (rad)'],
                                        ['joint %d' % j for j in settings.JOINTS])
+        self.tracking_label = QtWidgets.QLabel()
+        self.tracking_label.setWordWrap(True)
+        self._lag = {side: tracking.LagWatch() for side in interface.BAXTER_SIDES}
         self.gripper_table = self._table(['reading (0-1)'], GRIPPER_NAMES)
         end_piece_note = QtWidgets.QLabel('end piece button: ~1 released, ~0 pressed')
 
         top = QtWidgets.QHBoxLayout()
         top.addWidget(self._group('Puppet', self.heartbeat_label, self.button_label))
         opmode = QtWidgets.QHBoxLayout()
-        opmode.addWidget(self.limp_radio)
-        opmode.addWidget(self.hold_radio)
+        for radio, _ in self.opmode_radios:
+            opmode.addWidget(radio)
         top.addWidget(self._group('Opmode', opmode))
         top.addWidget(self._group('Teleoperation', self.teleop_label, self.follow_label,
                                   self.detail_label), 2)
         self.link_box = LinkBox()
         top.addWidget(self.link_box, 2)
         tables = QtWidgets.QHBoxLayout()
-        tables.addWidget(self._group('Joints', self.joint_table), 3)
+        tables.addWidget(self._group('Joints', self.joint_table, self.tracking_label), 3)
         tables.addWidget(self._group('Grippers', self.gripper_table, end_piece_note), 2,
                          QtCore.Qt.AlignTop)
         layout = QtWidgets.QVBoxLayout(self)
@@ -86,7 +109,9 @@ class MainTab(QtWidgets.QWidget):
             for column in range(len(columns)):
                 table.setItem(row, column, QtWidgets.QTableWidgetItem('—'))
         table.resizeRowsToContents()
-        height = table.horizontalHeader().height() + 2 * table.frameWidth()
+        # the header's size hint, not its height: the two-line Baxter header is taller than a
+        # header not yet laid out
+        height = table.horizontalHeader().sizeHint().height() + 2 * table.frameWidth()
         table.setFixedHeight(height + sum(table.rowHeight(r) for r in range(len(rows))))
         table.setVerticalScrollBarPolicy(QtCore.Qt.ScrollBarAlwaysOff)
         return table
@@ -113,10 +138,9 @@ class MainTab(QtWidgets.QWidget):
         paint(self.heartbeat_label, RED if stale else GREEN)
         self.button_label.setText('button held: %s   last pressed: %s' % (
             '—' if snap.button is None else (snap.button or 'none'), snap.last_button or 'none'))
-        for radio, opmode in ((self.limp_radio, interface.LIMP),
-                              (self.hold_radio, interface.HOLD)):
+        for radio, opmode in self.opmode_radios:
             if not radio.isDown():
-                radio.setAutoExclusive(False)  # lets both show unchecked while opmode is unknown
+                radio.setAutoExclusive(False)  # lets all show unchecked while opmode is unknown
                 radio.setChecked(snap.opmode == opmode)
                 radio.setAutoExclusive(True)
         for row, joint in enumerate(snap.joints):
@@ -125,6 +149,7 @@ class MainTab(QtWidgets.QWidget):
             status.setBackground(QtGui.QColor(STATUS_COLOUR.get(joint.status, GREY)))
             self.joint_table.item(row, 1).setText(number(joint.angle_rad))
             self.joint_table.item(row, 2).setText(number(joint.voltage_v, 2))
+        self._show_tracking(snap, now_s)
         for row, reading in enumerate(snap.grippers):
             self.gripper_table.item(row, 0).setText(number(reading))
         self._show_teleop(snap.teleop)
@@ -145,6 +170,42 @@ class MainTab(QtWidgets.QWidget):
                                             (teleop.follow_left, teleop.follow_right)) if on]
         self.follow_label.setText('Baxter arms following: %s' % (' + '.join(following) or 'none'))
         self.detail_label.setText(teleop.detail)
+
+    def _show_tracking(self, snap, now_s):
+        """Fill the Baxter and error columns and the zone or lag line."""
+        side, teleop = self._client.side, snap.teleop
+        follows = (teleop.follow_left, teleop.follow_right) if teleop else (False, False)
+        poses = {}
+        if snap.baxter is not None and now_s - snap.baxter.received_s <= tracking.BAXTER_STALE_S:
+            poses = snap.baxter.poses
+        puppet = [joint.angle_rad for joint in snap.joints]
+        arm = tracking.driven_arm(side, *follows)
+        track = tracking.tracking(side, arm, poses, puppet)
+        # Colour judges the error where it matters: an arm that follows, or feel mode (the
+        # puppet pulls toward the shown arm); an arm that does not follow is elsewhere by design.
+        judged = follows[interface.BAXTER_SIDES.index(arm)] or snap.opmode == interface.FEEL
+        header = baxter_header(arm, arm != interface.BAXTER_SIDE[side])
+        if self.joint_table.horizontalHeaderItem(BAXTER_COLUMN).text() != header:
+            self.joint_table.horizontalHeaderItem(BAXTER_COLUMN).setText(header)
+        for row in range(settings.NUM_JOINTS):
+            baxter = math.nan if track is None else track.baxter_rad[row]
+            error = math.nan if track is None else track.error_rad[row]
+            self.joint_table.item(row, BAXTER_COLUMN).setText(number(baxter))
+            cell = self.joint_table.item(row, ERROR_COLUMN)
+            cell.setText(number(error))
+            level = tracking.error_level(error) if judged else None
+            cell.setBackground(QtGui.QColor(ERROR_COLOUR[level]) if level else QtGui.QBrush())
+        lagging = {}
+        for follower, following in zip(interface.BAXTER_SIDES, follows):
+            worst = None
+            if following and follower in poses:
+                worst = tracking.largest_error(tracking.tracking(side, follower, poses, puppet))
+            large = worst is not None and tracking.error_level(worst[1]) == tracking.LARGE
+            if self._lag[follower].update(now_s, large):
+                lagging[follower] = worst
+        line = tracking.status_line(teleop, lagging, bool(poses))
+        self.tracking_label.setText(line.text)
+        paint(self.tracking_label, LINE_COLOUR[line.level])
 
     def _show_link(self, link, now_s):
         if link is None:

@@ -24,6 +24,9 @@ from robopuppet_msgs.srv import GetConfig, Record, SetConfig
 # dropped); /diagnostics carries every node's statuses, so it keeps more.
 QUEUE_SIZE = 10
 DIAGNOSTICS_QUEUE_SIZE = 100
+# /robot/joint_states comes from the robot host at ~100 Hz across the operator-robot link; the
+# GUI shows only the newest, so a late sample is dropped rather than queued.
+ROBOT_QUEUE_SIZE = 1
 
 
 SetAnswer = collections.namedtuple('SetAnswer', 'stored error values')
@@ -65,6 +68,8 @@ class PuppetClient:
     Replay: publishes interface.REPLAY_STOP (std_msgs/Empty) on stop_replay().
     Link to the robot room: subscribes <ns>/link_state (robopuppet_msgs/LinkState from arm_X,
         kept in the ArmState as a state.RobotLink with its receive time).
+    Baxter: subscribes /robot/joint_states (sensor_msgs/JointState, queue 1: only the newest
+        sample is kept) for the tracking error the main tab shows.
     """
 
     def __init__(self, side, arm_state, clock=rospy.get_time):
@@ -91,6 +96,8 @@ class PuppetClient:
             sub(topic(interface.STORED_SETTINGS), ArmSettings, self._on_stored, queue_size=1),
             sub(recording.RECORDING_TOPIC, RecordingState, self._on_recording, queue_size=1),
             sub(topic(interface.LINK_STATE), LinkState, self._on_link_state, queue_size=1),
+            sub(interface.ROBOT_JOINT_STATES, JointState, self._on_robot_joints,
+                queue_size=ROBOT_QUEUE_SIZE),
         ]
         for gripper in range(interface.NUM_GRIPPERS):
             self._subscribers.append(sub(interface.gripper_topic(side, gripper), Float32,
@@ -119,14 +126,15 @@ class PuppetClient:
         return self._clock()
 
     def set_opmode(self, opmode):
-        """Publish the opmode, 'limp' or 'hold'.
+        """Publish the opmode: limp, hold or feel.
 
-        Hold first sends each joint's current angle as its setpoint: the firmware holds the
-        setpoints it has (0 rad after limp), so a bare hold would drive the puppet to 0 rad.
+        Hold and feel first send each joint's current angle as its setpoint: the firmware holds
+        the setpoints it has (0 rad after limp), so a bare hold would drive the puppet to 0 rad
+        (in feel, arm_X then streams Baxter's pose as setpoints).
         """
         if opmode not in interface.OPMODES:
             raise ValueError('opmode must be one of %s, got %r' % (interface.OPMODES, opmode))
-        if opmode == interface.HOLD:
+        if opmode in (interface.HOLD, interface.FEEL):
             for joint, values in enumerate(self.state.snapshot().joints):
                 if math.isfinite(values.angle_rad):
                     self.set_setpoint(joint, values.angle_rad)
@@ -235,7 +243,10 @@ class PuppetClient:
     def _on_teleop(self, msg):
         self.state.on_teleop(state.Teleop(msg.state, msg.follow_left, msg.follow_right,
                                           msg.opmode, msg.heartbeat_age, msg.detail,
-                                          self._clock()))
+                                          msg.zone_left, msg.zone_right, self._clock()))
+
+    def _on_robot_joints(self, msg):
+        self.state.on_robot_joints(msg.name, msg.position, self._clock())
 
     def _on_diagnostics(self, msg):
         for status in msg.status:

@@ -8,22 +8,28 @@ import collections
 import math
 import threading
 
-from robopuppet import interface, settings
+from robopuppet import baxter_description, interface, settings
+from robopuppet.arm.readings import arm_poses
 
 SERIES = ('angle', 'voltage', 'setpoint')
 
 # The arm controller's state, as shown; fields follow robopuppet_msgs/TeleopState.
+# zone_left/zone_right: the keep-out zone holding Baxter's following left/right arm back, or ''.
 Teleop = collections.namedtuple('Teleop', 'state follow_left follow_right opmode heartbeat_age '
-                                          'detail received_s')
+                                          'detail zone_left zone_right received_s')
 # The serial link's health from one diagnostic_msgs/DiagnosticStatus.
 Link = collections.namedtuple('Link', 'level name message values received_s')
 # The operator-robot link as arm_X measures it (robopuppet_msgs/LinkState, figures in s; loss a
 # fraction 0-1), with the GUI's own receive time.
 RobotLink = collections.namedtuple('RobotLink', 'rtt_s sample_age_s max_sample_age_s clock_known '
                                                 'loss level fault detail received_s')
+# Baxter's measured arms from /robot/joint_states: {side: 7 angles rad in puppet joint order}.
+Baxter = collections.namedtuple('Baxter', 'poses received_s')
 Joint = collections.namedtuple('Joint', 'status angle_rad voltage_v setpoint_rad')
 Snapshot = collections.namedtuple('Snapshot', 'heartbeat_s joints grippers button last_button '
-                                              'opmode teleop link robot_link')
+                                              'opmode teleop link robot_link baxter')
+BAXTER_JOINTS = {side: baxter_description.arm_joint_names(side)
+                 for side in interface.BAXTER_SIDES}
 
 
 class ArmState:
@@ -48,6 +54,7 @@ class ArmState:
         self._teleop = None
         self._link = None
         self._robot_link = None
+        self._baxter = None
         self._pending = {(kind, joint): collections.deque(maxlen=capacity)
                          for kind in SERIES for joint in settings.JOINTS}
 
@@ -84,11 +91,11 @@ class ArmState:
             self._setpoint_sent[joint] = True
 
     def on_opmode(self, opmode, now_s):
-        """Record the opmode ('limp' or 'hold'); other text is ignored with ValueError.
+        """Record the opmode (limp, hold or feel); other text is ignored with ValueError.
 
-        Entering hold shows each joint's last angle as its setpoint unless a setpoint was sent
-        to it since the last limp (the serial node fills in the current angles just so);
-        leaving it ends the setpoint curves (NaN), so plots show setpoints only while holding.
+        Entering hold or feel shows each joint's last angle as its setpoint unless a setpoint
+        was sent to it since the last limp (the serial node fills in the current angles just
+        so); limp ends the setpoint curves (NaN), so plots show setpoints only while holding.
         """
         if opmode not in interface.OPMODES:
             raise ValueError('opmode must be one of %s, got %r' % (interface.OPMODES, opmode))
@@ -135,6 +142,19 @@ class ArmState:
         with self._lock:
             self._robot_link = robot_link
 
+    def on_robot_joints(self, names, positions, now_s):
+        """Record Baxter's arm angles from a /robot/joint_states message received at now_s.
+
+        An arm whose seven joints are not all in the message keeps its previous pose.
+        """
+        poses, _ = arm_poses(names, positions, (), BAXTER_JOINTS)
+        if not poses:
+            return
+        with self._lock:
+            kept = dict(self._baxter.poses) if self._baxter is not None else {}
+            kept.update((side, tuple(pose)) for side, pose in poses.items())
+            self._baxter = Baxter(kept, now_s)
+
     def snapshot(self):
         """Return the latest values as an immutable Snapshot."""
         with self._lock:
@@ -142,7 +162,7 @@ class ArmState:
                 self._status, self._angle, self._voltage, self._setpoint))
             return Snapshot(self._heartbeat_s, joints, tuple(self._grippers), self._button,
                             self._last_button, self._opmode, self._teleop, self._link,
-                            self._robot_link)
+                            self._robot_link, self._baxter)
 
     def drain(self):
         """Return {(series, joint): [(time s, value), ...]} received since the last drain."""

@@ -17,9 +17,9 @@ START = 0xA5
 TO_HOST = 'device->host'
 TO_DEVICE = 'host->device'
 
-# Wire codes: the opmode frame's mode indexes interface.OPMODES, a joint state's status
+# Wire codes: the opmode frame's mode indexes interface.DEVICE_OPMODES, a joint state's status
 # interface.ENC_STATUS.
-LIMP, HOLD = range(len(interface.OPMODES))
+LIMP, HOLD = range(len(interface.DEVICE_OPMODES))
 WORKING, DISCONNECTED, UNCALIBRATED = range(len(interface.ENC_STATUS))
 
 U8 = 'B'
@@ -45,7 +45,7 @@ def _message_type(class_name, msg_id, direction, *fields):
 
 # The message table: one row per frame the 2020 firmware sends or takes.
 Heartbeat = _message_type('Heartbeat', 0x00, TO_HOST)
-Opmode = _message_type('Opmode', 0x10, TO_DEVICE, ('mode', U8, len(interface.OPMODES)))
+Opmode = _message_type('Opmode', 0x10, TO_DEVICE, ('mode', U8, len(interface.DEVICE_OPMODES)))
 JointState = _message_type('JointState', 0x20, TO_HOST,
                            ('joint', U8, settings.NUM_JOINTS),
                            ('status', U8, len(interface.ENC_STATUS)),

@@ -5,13 +5,16 @@ The rules come from the real 2020 firmware (its code, doates625/RoboPuppet; docs
   (and sign_motor) go before home_angle, and home_angle again after any change of sign_angle:
   loading the same settings twice then changes nothing.
 - It reads a frame whole as soon as its start byte is in: a frame split across two 64-byte USB
-  packets is garbage. So the host writes whole frames in writes of at most one packet.
+  packets is garbage. So the host writes whole frames in writes of at most one packet, and
+  writes that add up to more than a packet at least LOAD_PAUSE_S apart (WritePacer), so that
+  no packet can hold the end of one frame and the start of another.
 - On hold it keeps the setpoints it has, and limp (and power-on) set them to 0 rad. So a hold
   goes out only after seven setpoints; the missing ones are the current reported angles.
 - Its state rate is a compile-time constant (10 Hz in 2020); ~comm_rate does not change it, so
   the node only checks that the two agree.
 """
 import collections
+import math
 
 from robopuppet import settings
 from robopuppet.protocol import codec
@@ -60,6 +63,38 @@ def pack(frames, limit=USB_PACKET_BYTES):
     if current:
         writes.append(current)
     return writes
+
+
+class WritePacer:
+    """Say how long a write must wait so that writes adding up to more than a packet are at
+    least gap_s apart (time is an argument; the caller sleeps and serialises the writes).
+
+    Writes (each of whole frames, at most one packet) that follow each other within gap_s form
+    a group of at most packet_bytes; the write that would make the group larger waits until
+    gap_s after the group's last write and starts the next group. A stack or a simulator that
+    merges back-to-back writes (a pty keeps no write boundaries; puppet_sim's USB packet model
+    cuts what arrived within 1.5 ms every 64 bytes) then never cuts a frame: e.g. a hold's 60
+    bytes of setpoints and opmode, and then arm_X's setpoints from other topics at once.
+    """
+
+    def __init__(self, packet_bytes=USB_PACKET_BYTES, gap_s=LOAD_PAUSE_S):
+        self._packet_bytes, self._gap_s = packet_bytes, gap_s
+        self._group_bytes = 0
+        self._last_s = -math.inf  # the group's last write
+
+    def delay_s(self, now_s, size):
+        """Return the seconds a write of `size` bytes must wait at now_s (0: none)."""
+        if now_s - self._last_s >= self._gap_s or self._group_bytes + size <= self._packet_bytes:
+            return 0.0
+        return self._last_s + self._gap_s - now_s
+
+    def wrote(self, now_s, size):
+        """A write of `size` bytes went out at now_s."""
+        if now_s - self._last_s >= self._gap_s or \
+                self._group_bytes + size > self._packet_bytes:
+            self._group_bytes = 0
+        self._group_bytes += size
+        self._last_s = now_s
 
 
 HoldPlan = collections.namedtuple('HoldPlan', 'messages refusal')
@@ -116,6 +151,50 @@ class HoldGate:
                 self._sent.add(message.joint)
             elif isinstance(message, codec.Opmode) and message.mode != codec.HOLD:
                 self._sent.clear()
+
+
+class FeelWatch:
+    """Feel mode's setpoint watchdog: feel lasts only while setpoints keep arriving.
+
+    In feel mode arm_X streams the puppet's setpoints from Baxter's measured pose; when they
+    stop (arm_X died, the network to the robot host is cut) the device must not keep holding
+    a stale pose, so serial_X goes limp. Time is an argument; hold is never timed out.
+    """
+
+    def __init__(self, timeout_s):
+        if not timeout_s > 0.0:
+            raise ValueError('the feel setpoint timeout must be positive, got %r' % timeout_s)
+        self._timeout_s = timeout_s
+        self._last_s = None  # the newest setpoint (or the start of feel), None outside feel
+
+    @property
+    def active(self):
+        """True in feel mode."""
+        return self._last_s is not None
+
+    @property
+    def due_s(self):
+        """Return when the watchdog expires without another setpoint (inf outside feel)."""
+        return math.inf if self._last_s is None else self._last_s + self._timeout_s
+
+    def start(self, now_s):
+        """Feel mode starts (the device's hold was sent); a repeat restarts the timer."""
+        self._last_s = now_s
+
+    def stop(self):
+        """Feel mode ends (limp, hold, a reconnect, or the watchdog's own limp)."""
+        self._last_s = None
+
+    def on_setpoint(self, now_s):
+        """A joint setpoint arrived (in any mode; only feel mode counts it)."""
+        if self._last_s is not None:
+            self._last_s = max(self._last_s, now_s)
+
+    def expired(self, now_s):
+        """Return the seconds without a setpoint if feel mode has timed out now, else None."""
+        if self._last_s is None or now_s < self._last_s + self._timeout_s:
+            return None
+        return now_s - self._last_s
 
 
 class RateMeter:

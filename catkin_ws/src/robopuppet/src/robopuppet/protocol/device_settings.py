@@ -4,7 +4,8 @@ Pure (sans-I/O): stored settings, unloads and steps go in; writes go out through
 write callable, the time comes from the injected clock. No rospy, no thread of its own, not
 thread-safe: the node calls it under its one lock.
 
-config_X publishes every stored state of the settings (stored_settings, latched). After each
+config_X publishes every state of the settings the device should hold (active_settings, latched:
+the stored settings, or in feel mode those with its gentle gains; called "stored" here). After each
 (re)connect all 84 settings of the newest stored state are written to the device, then opmode
 limp; until that is done (and while none has arrived) the node publishes no joint angles. Every
 later stored state is sent at once, but only the values that differ from what the device holds.
@@ -125,7 +126,7 @@ class DeviceSettings:
             return
         if self._stored is None:
             if not self._waiting_logged:
-                self._log_warn('no stored settings from %s yet; publishing no joint states until '
+                self._log_warn('no settings from %s yet; publishing no joint states until '
                                'they arrive and are loaded' % self._source)
                 self._waiting_logged = True
             return

@@ -17,8 +17,8 @@ Health = collections.namedtuple(
 Health.__doc__ = """What the diagnostics level and message are made of.
 
 connected (the port is open), port (its name), silent (SilenceWatch.silent), loaded (the device
-holds the stored settings since the last (re)connect), revision (of the newest stored settings,
-None before any), publishers (of stored_settings, as the subscription sees them),
+holds the active settings since the last (re)connect), revision (of the newest active settings,
+None before any), publishers (of active_settings, as the subscription sees them),
 heartbeat_age_s (None: none yet), rate_problem (device_commands.rate_problem's text or None),
 new_errors (callback errors survived since the last status), last_error (the newest one's text).
 """
@@ -65,7 +65,7 @@ class SilenceWatch:
 
 def level_and_message(health):
     """Return the /diagnostics (level, message) for a Health: the worst problem first."""
-    topic = interface.STORED_SETTINGS
+    topic = interface.ACTIVE_SETTINGS
     if not health.connected:
         return ERROR, 'link down: %s not open' % health.port
     if health.silent:

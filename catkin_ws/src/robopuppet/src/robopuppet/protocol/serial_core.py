@@ -1,9 +1,9 @@
 """Everything serial_X decides, in one pure core beneath the node.
 
-Sans-I/O: received bytes, stored settings, opmodes and setpoints go in; the outputs to publish
+Sans-I/O: received bytes, active settings, opmodes and setpoints go in; the outputs to publish
 (robopuppet.protocol.state_output), the writes (through the injected write callable) and what
-the node must do (re-open the port, publish diagnostics, when to step again) come out; the time
-comes from the injected clock. No rospy, no thread, not thread-safe: serial_X
+the node must do (re-open the port, publish diagnostics or an opmode, when to step again) come
+out; the time comes from the injected clock. No rospy, no thread, not thread-safe: serial_X
 (robopuppet.protocol.serial_node) makes every call under its one lock, so all of the state has
 one owner.
 """
@@ -22,11 +22,11 @@ LinkFacts = collections.namedtuple(
     'LinkFacts', 'connected connects write_errors callback_errors last_error publishers')
 LinkFacts.__doc__ = """What the node knows of its port and subscription when it steps the core:
 connected (the port is open), connects, write_errors, callback_errors (totals), last_error (the
-newest callback error's text), publishers (of stored_settings)."""
-Actions = collections.namedtuple('Actions', 'reopen diagnostics next_s')
+newest callback error's text), publishers (of active_settings)."""
+Actions = collections.namedtuple('Actions', 'reopen diagnostics next_s opmode')
 Actions.__doc__ = """What step() asks of the node: reopen (the port, the device is silent),
 diagnostics (a Diagnostics to publish, or None), next_s (clock time of the next step at the
-latest)."""
+latest), opmode (a mode to publish on <ns>/opmode so that the other nodes know, or None)."""
 Diagnostics = collections.namedtuple('Diagnostics', 'level message values')
 Diagnostics.__doc__ = """One /diagnostics status: level (link_health.OK, WARN or ERROR), message,
 values ((key, text) pairs)."""
@@ -40,17 +40,20 @@ class SerialCore:
         clock(): monotonic time, s.
         log_info(text), log_warn(text): where the node's log lines go.
         port_name: the serial port, for log lines and diagnostics.
-        source: the stored_settings topic, for log lines.
+        source: the active_settings topic, for log lines.
         topic_rate_hz: cap of the per-joint topics (state_output.StateOutput).
         silence_timeout_s: no whole set or heartbeat for this long re-opens the port.
         comm_rate_hz: the state-set rate the firmware is expected to send, 0: no check.
         pause_s: the least time between two settings writes, s.
+        feel_timeout_s: in feel mode, no joint setpoint for this long sends limp (device_commands.
+            FeelWatch).
     Raises:
         ValueError: a rate or timeout out of range.
     """
 
     def __init__(self, write, clock, log_info, log_warn, port_name, source, topic_rate_hz=100.0,
-                 silence_timeout_s=3.0, comm_rate_hz=0.0, pause_s=device_commands.LOAD_PAUSE_S):
+                 silence_timeout_s=3.0, comm_rate_hz=0.0, pause_s=device_commands.LOAD_PAUSE_S,
+                 feel_timeout_s=0.5):
         if not topic_rate_hz > 0.0 or not comm_rate_hz >= 0.0:
             raise ValueError('the topic rate must be positive and comm_rate positive or 0 (no '
                              'check), got %r and %r' % (topic_rate_hz, comm_rate_hz))
@@ -62,6 +65,9 @@ class SerialCore:
         self._output = state_output.StateOutput(1.0 / topic_rate_hz)
         self._silence = link_health.SilenceWatch(silence_timeout_s)
         self._hold = device_commands.HoldGate()
+        self._feel = device_commands.FeelWatch(feel_timeout_s)
+        self._announce = None  # an opmode for the next step() to hand the node, or None
+        self._profile = ''  # of the newest active settings
         self._rate = device_commands.RateMeter()
         self._rate_epoch = None
         self._heartbeat_s = None
@@ -72,13 +78,16 @@ class SerialCore:
 
     @property
     def loaded(self):
-        """Return True while the device holds the stored settings, loaded since the last
+        """Return True while the device holds the active settings, loaded since the last
         (re)connect."""
         return self._settings.loaded_since_s is not None
 
     # Device -> host ------------------------------------------------------------------------
     def on_connect(self):
-        """The port was (re)opened: the device may hold other settings now."""
+        """The port was (re)opened: the device may hold other settings now. Ends feel mode
+        (limp, announced): the device may have been silent or replugged meanwhile."""
+        if self._feel.active:
+            self._go_limp('the port %s was re-opened' % self._port)
         self._silence.on_connect(self._clock())
         # A silent device gets its settings when it talks again.
         self._settings.unload(load=not self._silence.silent)
@@ -117,43 +126,70 @@ class SerialCore:
         self._rate.add(now)
 
     # Host -> device ------------------------------------------------------------------------
-    def on_stored(self, revision, joints):
-        """Take config_X's newest stored settings (see DeviceSettings.on_stored)."""
+    def on_stored(self, revision, joints, profile=''):
+        """Take config_X's newest active settings (see DeviceSettings.on_stored); profile is
+        '' (as stored) or 'feel', for log lines and diagnostics."""
+        if profile != self._profile:
+            self._log_info('active settings revision %d: profile %s' % (
+                revision, repr(profile) if profile else "'' (as stored)"))
+        self._profile = profile
         self._settings.on_stored(revision, joints)
 
     def step_due(self):
-        """Return True if step() has work now (e.g. after on_stored or a device that talks
-        again), so that the node steps at once rather than at its next planned step."""
-        return self._settings.next_step_s <= self._clock()
+        """Return True if step() has work now (e.g. after on_stored, a device that talks again
+        or an opmode to announce), so that the node steps at once rather than at its next
+        planned step."""
+        return self._announce is not None or self._settings.next_step_s <= self._clock()
 
     def on_opmode(self, mode):
-        """Send an opmode ('limp' or 'hold'); a hold only with a setpoint for every joint.
+        """Take an opmode (interface.OPMODES): send limp, or hold for hold and feel.
 
         The firmware holds the setpoints it has (0 rad after power-on or limp), so a hold
         without seven setpoints since the last limp/connect first sends the current angles as
-        the missing ones, in the same write; with no current angles it is refused (logged).
+        the missing ones, in the same write; with no current angles it is refused (logged; a
+        refused feel is limp, announced). Feel is the device's hold plus the setpoint watchdog
+        (step()); limp, hold or a reconnect end it, a repeat of feel changes nothing.
         """
         if mode not in interface.OPMODES:
             self._log_warn('opmode must be one of %s, got %r; ignored'
                            % ('/'.join(interface.OPMODES), mode))
             return
-        if mode != interface.HOLD:
-            self._send([codec.Opmode(interface.OPMODES.index(mode))], 'opmode ' + mode)
+        if mode == interface.LIMP:
+            self._feel.stop()
+            self._send([codec.Opmode(codec.LIMP)], 'opmode limp')
+            return
+        if mode == interface.FEEL and self._feel.active:
             return
         plan = self._hold.plan_hold(self._settings.epoch)
         if plan.refusal:
+            if mode == interface.FEEL:
+                self._go_limp('feel refused: %s' % plan.refusal)
+                return
             self._log_warn('hold refused: %s; send joint_J/setpoint for every joint first, or '
                            'wait for the joint states' % plan.refusal)
             return
         filled = [m.joint for m in plan.messages if isinstance(m, codec.JointSetpoint)]
         if filled:
-            self._log_info('hold: joints %s had no setpoint since the last limp or connect; '
-                           'their current angles go first' % filled)
-        self._send(plan.messages, 'opmode hold')
+            self._log_info('%s: joints %s had no setpoint since the last limp or connect; '
+                           'their current angles go first' % (mode, filled))
+        self._send(plan.messages, 'opmode %s (the device\'s hold)' % mode)
+        if mode == interface.FEEL:
+            self._feel.start(self._clock())
+        else:
+            self._feel.stop()
 
     def on_setpoint(self, joint, angle_rad):
-        """Send a joint's setpoint (rad), used by the device in hold."""
+        """Send a joint's setpoint (rad), used by the device in hold (and fed to feel mode's
+        watchdog)."""
+        self._feel.on_setpoint(self._clock())
         self._send([codec.JointSetpoint(joint, angle_rad)], 'joint %d setpoint' % joint)
+
+    def _go_limp(self, why):
+        """End feel mode: send limp, log why, and have step() announce limp on <ns>/opmode."""
+        self._feel.stop()
+        self._log_warn('%s; going limp (opmode limp sent and published)' % why)
+        self._send([codec.Opmode(codec.LIMP)], 'opmode limp')
+        self._announce = interface.LIMP
 
     def _send(self, messages, what):
         """Send messages in whole-frame writes of <= 64 bytes; the hold gate notes them."""
@@ -180,6 +216,12 @@ class SerialCore:
         """
         self._settings.step()
         now = self._clock()
+        setpointless_s = self._feel.expired(now)
+        if setpointless_s is not None:
+            self._go_limp('no joint setpoint for %.2f s in feel mode: arm_X stopped streaming '
+                          "Baxter's pose (it stopped, or the link to the robot host is down)"
+                          % setpointless_s)
+        announce, self._announce = self._announce, None
         was_silent = self._silence.silent
         quiet_s = self._silence.check(now, link.connected)
         if quiet_s is not None and not was_silent:
@@ -190,8 +232,8 @@ class SerialCore:
             diagnostics = self._diagnostics(now, link)
             self._next_diagnostics_s = now + DIAGNOSTICS_PERIOD_S
         next_s = min(self._settings.next_step_s, self._silence.due_s(link.connected),
-                     self._next_diagnostics_s)
-        return Actions(quiet_s is not None, diagnostics, next_s)
+                     self._next_diagnostics_s, self._feel.due_s)
+        return Actions(quiet_s is not None, diagnostics, next_s, announce)
 
     def _diagnostics(self, now, link):
         rate_hz = self._rate.rate_hz(now)
@@ -210,8 +252,9 @@ class SerialCore:
         values = (
             ('port', self._port), ('link', 'up' if link.connected else 'down'),
             ('settings loaded', str(self.loaded)),
-            ('stored settings', 'none yet' if revision is None else 'revision %d' % revision),
-            ('stored settings publishers', str(link.publishers)),
+            ('active settings', 'none yet' if revision is None else 'revision %d%s' % (
+                revision, ', profile ' + self._profile if self._profile else '')),
+            ('active settings publishers', str(link.publishers)),
             ('frames per s', str(frames_per_s)),
             ('s since heartbeat', 'never' if age_s is None else '%.1f' % age_s),
             ('dropped bytes', str(dec.dropped_bytes)), ('bad checksums', str(dec.bad_checksums)),

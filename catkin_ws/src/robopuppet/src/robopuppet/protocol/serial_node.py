@@ -7,9 +7,9 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Empty, Float32, String, UInt8
 
-from robopuppet import interface, settings
+from robopuppet import interface, params, settings
 from robopuppet.periodic import Guard
-from robopuppet.protocol import state_output as out
+from robopuppet.protocol import device_commands, state_output as out
 from robopuppet.protocol.serial_core import LinkFacts, SerialCore
 from robopuppet.protocol.serial_link import SerialLink
 from robopuppet_msgs.msg import ArmSettings, LinkPing
@@ -22,15 +22,19 @@ class SerialNode:
 
     The port's reader thread and the subscriber threads feed the core, each call under one
     lock; one worker thread steps it when it has work or a deadline (a settings write, the
-    silence watch, 1 Hz diagnostics). See docs/serial.md.
+    silence watch, feel mode's setpoint watchdog, 1 Hz diagnostics). See docs/serial.md.
 
     Publishes (in <ns> = /puppet/arm_<side>; see robopuppet.protocol.state_output): heartbeat
         (std_msgs/Empty), joint_states (sensor_msgs/JointState: position rad, effort V),
         joint_J/angle, joint_J/voltage (std_msgs/Float32: rad, V), joint_J/enc_stat
         (std_msgs/String), gripper_G (std_msgs/Float32, 0-1), user_btn (std_msgs/UInt8);
         /diagnostics (1 Hz): status '<node>: puppet serial link', hardware_id <ns>.
-    Subscribes: stored_settings (robopuppet_msgs/ArmSettings, latched, from config_X), opmode
-        (std_msgs/String: limp or hold), joint_J/setpoint (std_msgs/Float32, rad).
+        opmode (std_msgs/String): limp, when feel mode ends without being told (its setpoint
+        watchdog, a reconnect, a refused feel), so that every node knows the puppet is limp.
+    Subscribes: active_settings (robopuppet_msgs/ArmSettings, latched, from config_X: the
+        settings the device should hold, the feel profile's in feel mode), opmode
+        (std_msgs/String: limp; hold; feel = the device's hold + the setpoint watchdog),
+        joint_J/setpoint (std_msgs/Float32, rad).
     Echoes: each link_ping (robopuppet_msgs/LinkPing from arm_X on the robot host) goes back at
         once on link_echo with `echoed` = this node's rospy.Time.now(), both tcp_nodelay. This is
         the node that stamps joint_states, so arm_X measures the clock that stamps the samples.
@@ -38,7 +42,9 @@ class SerialNode:
         ~baud_rate (int, default 115200); ~joint_topic_rate (float, default 100.0 Hz: cap of
         the per-joint topics); ~silence_timeout (float, default 3.0 s: no frame for this long
         re-opens the port, then every second); ~comm_rate (float, default 0: no check: the
-        firmware's compile-time state-set rate, 10 Hz in 2020; 20 % off is reported).
+        firmware's compile-time state-set rate, 10 Hz in 2020; 20 % off is reported);
+        ~feel_setpoint_timeout (float, default 0.5 s: in feel mode, no joint setpoint for this
+        long sends limp, logs a warning and publishes limp on opmode).
     """
 
     def __init__(self):
@@ -52,17 +58,22 @@ class SerialNode:
                       lambda text: rospy.logwarn('%s: %s', self._name, text))
         self._link = SerialLink(port, int(rospy.get_param('~baud_rate', 115200)),
                                 self._on_connect, self._on_data, info, warn, retry_s=OPEN_RETRY_S)
-        stored = self._ns + '/' + interface.STORED_SETTINGS
+        active = self._ns + '/' + interface.ACTIVE_SETTINGS
+        self._pacer = device_commands.WritePacer()
         self._core = SerialCore(
-            self._link.write, time.monotonic, info, warn, port, stored,
+            self._write, time.monotonic, info, warn, port, active,
             topic_rate_hz=float(rospy.get_param('~joint_topic_rate', 100.0)),
             silence_timeout_s=float(rospy.get_param('~silence_timeout', 3.0)),
-            comm_rate_hz=float(rospy.get_param('~comm_rate', 0.0)))
+            comm_rate_hz=float(rospy.get_param('~comm_rate', 0.0)),
+            feel_timeout_s=params.positive('~feel_setpoint_timeout',
+                                           rospy.get_param('~feel_setpoint_timeout', 0.5)))
         self._worker = threading.Thread(target=self._work, name='serial worker', daemon=True)
         self._make_publishers()
-        self._stored_sub = rospy.Subscriber(stored, ArmSettings, self._on_stored, queue_size=1)
+        self._active_sub = rospy.Subscriber(active, ArmSettings, self._on_active, queue_size=1)
+        # Woken: feel mode's watchdog deadline may come before the worker's planned step.
         self._subs = [rospy.Subscriber(self._ns + '/' + interface.OPMODE, String, lambda msg:
-                                       self._call(self._core.on_opmode, msg.data), queue_size=10)]
+                                       self._call(self._core.on_opmode, msg.data, wake=True),
+                                       queue_size=10)]
         self._subs += [rospy.Subscriber(
             interface.joint_topic(self._side, j, 'setpoint'), Float32,
             lambda msg, j: self._call(self._core.on_setpoint, j, msg.data), j, queue_size=10)
@@ -87,6 +98,7 @@ class SerialNode:
         grippers = pubs(Float32, *(interface.gripper_topic(side, g)
                                    for g in range(interface.NUM_GRIPPERS)))
         self._pub_diag = rospy.Publisher(interface.DIAGNOSTICS, DiagnosticArray, queue_size=10)
+        self._pub_opmode = rospy.Publisher(ns + interface.OPMODE, String, queue_size=10)
 
         def joint_states(o):
             msg = JointState(name=settings.JOINT_NAMES, position=o.positions, effort=o.efforts)
@@ -126,6 +138,15 @@ class SerialNode:
             self._wake.set()
         return result
 
+    def _write(self, data):
+        """Write for the core (under the lock): each write waits as WritePacer says."""
+        delay_s = self._pacer.delay_s(time.monotonic(), len(data))
+        if delay_s > 0.0:
+            time.sleep(delay_s)
+        written = self._link.write(data)
+        self._pacer.wrote(time.monotonic(), len(data))
+        return written
+
     def _on_connect(self):
         self._call(self._core.on_connect, wake=True)
 
@@ -133,9 +154,9 @@ class SerialNode:
         for output in self._call(self._core.on_data, data):
             self._publish[type(output)](output)
 
-    def _on_stored(self, msg):
+    def _on_active(self, msg):
         joints = [(j.joint, {n: getattr(j, n) for n in settings.NAMES}) for j in msg.joints]
-        self._call(self._core.on_stored, msg.revision, joints)
+        self._call(self._core.on_stored, msg.revision, joints, msg.profile)
 
     def _work(self):
         next_s = time.monotonic()
@@ -149,9 +170,11 @@ class SerialNode:
         link, guard = self._link, self._guard
         facts = LinkFacts(link.connected, link.connects, link.write_errors,
                           guard.errors + link.callback_errors, guard.last_error,
-                          self._stored_sub.get_num_connections())
+                          self._active_sub.get_num_connections())
         with self._lock:
             actions = self._core.step(facts)
+        if actions.opmode is not None:
+            self._pub_opmode.publish(String(actions.opmode))
         if actions.reopen:
             link.reopen()
         if actions.diagnostics is not None:

@@ -9,6 +9,8 @@ are enabled), servo friction (Coulomb and viscous), and the operator's hand: a s
 spring-damper toward the hand pose that moves at a hand-like speed and is stronger than the
 servos. Until the first hand input the hand holds REST_POSE_RAD. Angles here are mechanical; the
 firmware's encoders (robopuppet.puppet_sim.puppet_model) turn them into reported angles.
+hand_torque_nm observes what the hand exerts (what the nurse feels in feel mode); it changes
+nothing in the motion.
 """
 import math
 
@@ -67,6 +69,7 @@ class ArmPhysics:
         self.hand_goal_rad = np.array(pose_rad, dtype=float)
         self.hand_rad = np.array(pose_rad, dtype=float)
         self.hand_engaged = np.ones(n, dtype=bool)
+        self.hand_torque_nm = np.zeros(n)  # the hand's torque on each joint at the last step
         self.gravity_nm = np.zeros(n)
         self.inertia_kgm2 = ROTOR_INERTIA_KGM2.copy()
         self.update_loads()
@@ -110,7 +113,8 @@ class ArmPhysics:
         self.hand_rad += np.clip(self.hand_goal_rad - self.hand_rad, -step, step)
         hand = np.clip(HAND_STIFFNESS_NM_PER_RAD * (self.hand_rad - self.angle_rad)
                        - HAND_DAMPING_NMS * speed, -HAND_MAX_TORQUE_NM, HAND_MAX_TORQUE_NM)
-        torque += np.where(self.hand_engaged, hand, 0.0)
+        self.hand_torque_nm = np.where(self.hand_engaged, hand, 0.0)
+        torque += self.hand_torque_nm
         moving = np.abs(speed) > 1e-6
         stuck = ~moving & (np.abs(torque) <= COULOMB_FRICTION_NM)
         direction = np.where(moving, np.sign(speed), np.sign(torque))

@@ -28,12 +28,13 @@ CONFIG_PERIOD_S = 0.1        # the device's settings are published at most this 
 CONFIG_DIMS = (('joint', settings.NUM_JOINTS, settings.NUM_JOINTS * len(settings.NAMES)),
                ('setting', len(settings.NAMES), len(settings.NAMES)))
 
-Step = collections.namedtuple('Step', 'config opmode ticks ignored notes')
+Step = collections.namedtuple('Step', 'config opmode ticks ignored notes hand_torque')
 Step.__doc__ = """What one step leads to: `config` the 7 x 12 settings the device holds (row per
 joint, settings.NAMES order) to publish, or None; `opmode` 'limp' or 'hold' to publish, or None;
 `ticks` the puppet_model.ControlTicks run in hold since the last step; `ignored` the count of
 frames for a joint out of range when it changed, else None; `notes` lines to log about the host
-(not) reading."""
+(not) reading; `hand_torque` the 7 torques (N m) the operator's hand exerts on the joints now (0
+where it lets go) when a state set went out in this step (so at the state rate), else None."""
 
 
 def check_params(hall_disconnected, usb_packet_size):
@@ -167,7 +168,7 @@ class PuppetDevice:
             config = None
         else:
             self._published_config, self._next_config_s = config, now_s + CONFIG_PERIOD_S
-        opmode = interface.OPMODES[firmware.opmode]
+        opmode = interface.DEVICE_OPMODES[firmware.opmode]
         if opmode == self._published_opmode:
             opmode = None
         else:
@@ -177,7 +178,8 @@ class PuppetDevice:
             ignored = None
         else:
             self._ignored = ignored
-        return Step(config, opmode, firmware.take_control_ticks(), ignored, notes)
+        hand_torque = tuple(firmware.arm.hand_torque_nm.tolist()) if states else None
+        return Step(config, opmode, firmware.take_control_ticks(), ignored, notes, hand_torque)
 
     def _send(self, frames, noise, more_frames, write_some):
         """Queue frames, noise (kept whole) and more frames; write what the line takes.

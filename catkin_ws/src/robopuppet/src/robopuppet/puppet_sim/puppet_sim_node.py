@@ -36,10 +36,14 @@ class PuppetSimNode:
         <sim>/device_config (std_msgs/Float32MultiArray, latched): the last value the device
             received for each of the 7 x 12 settings (power-on values before), row per joint
             in settings.NAMES order; at most 10 Hz, when they change.
-        <sim>/device_opmode (std_msgs/String, latched): 'limp' or 'hold', when it changes.
+        <sim>/device_opmode (std_msgs/String, latched): 'limp' or 'hold' (the firmware's two;
+            serial_X puts feel on the wire as hold), when it changes.
         <sim>/control (sensor_msgs/JointState): every 50 Hz control tick in hold; names
             joint_0..joint_6, position = setpoints rad, velocity = reported angles rad,
             effort = PID voltages V.
+        <sim>/hand_torque (sensor_msgs/JointState): with every state set (~state_rate);
+            names joint_0..joint_6, effort = the torque N m the operator's hand exerts on each
+            joint (0 where it lets go): in feel mode, what the nurse feels.
     Parameters:
         ~arm_side (str, required): 'L' or 'R'.
         ~port_link (str, default /tmp/robopuppet_arm_<side>): symlink to the pseudo-terminal.
@@ -67,6 +71,8 @@ class PuppetSimNode:
                                            queue_size=1, latch=True)
         self._pub_control = rospy.Publisher(self._topic(interface.SIM_CONTROL), JointState,
                                             queue_size=100)
+        self._pub_hand_torque = rospy.Publisher(self._topic(interface.SIM_HAND_TORQUE),
+                                                JointState, queue_size=10)
         device = self._device
         self._subs = [
             self._subscribe(interface.SIM_HAND, JointState, device.set_hand,
@@ -122,6 +128,10 @@ class PuppetSimNode:
             self._pub_control.publish(JointState(
                 Header(stamp=rospy.Time.now()), list(settings.JOINT_NAMES),
                 list(tick.setpoint_rad), list(tick.angle_rad), list(tick.voltage_v)))
+        if step.hand_torque is not None:
+            self._pub_hand_torque.publish(JointState(
+                header=Header(stamp=rospy.Time.now()), name=list(settings.JOINT_NAMES),
+                effort=list(step.hand_torque)))
         if step.ignored is not None:
             rospy.logwarn_throttle(5.0, '%s: %d frames for a joint out of range 0-6 ignored (the '
                                    'real firmware would write past its arrays)', self._pty.link,
