@@ -8,7 +8,6 @@ docs/cameras.md describes it. Pure: YAML text in, checked tuples and meshes out.
 import collections
 
 import numpy as np
-import yaml
 
 from robopuppet.cameras import meshes
 from robopuppet.world import shapes
@@ -73,17 +72,7 @@ def parse_world(text, where='the world file'):
     Raises:
         SceneError: not YAML, or an entry not in the format (the message names it).
     """
-    try:
-        document = yaml.safe_load(text)
-    except yaml.YAMLError as error:
-        raise SceneError('%s is not YAML: %s' % (where, error)) from None
-    if document is not None and not isinstance(document, dict):
-        raise SceneError('%s must be a mapping (shapes, floor, cameras)' % where)
-    document = document or {}
-    unknown = sorted(set(document) - {'frame', 'shapes', 'floor', 'cameras'})
-    if unknown:
-        raise SceneError('%s: unknown keys %s' % (where, unknown))
-    shapes.check_frame(document, where)
+    document = shapes.load_document(text, ('frame', 'shapes', 'floor', 'cameras'), where)
     return World(shapes.parse_shapes(document, where), _floor(document.get('floor')),
                  _cameras(document.get('cameras')))
 

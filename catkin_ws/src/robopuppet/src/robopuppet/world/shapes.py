@@ -12,6 +12,7 @@ import collections
 import math
 
 import numpy as np
+import yaml
 
 from robopuppet import baxter_description as bd
 
@@ -81,21 +82,43 @@ def parse_shape(entry, index=0):
 
 
 def parse_shapes(document, where='the file'):
-    """Return the Shapes of a loaded YAML document's `shapes` list (names must be unique)."""
-    if document is None:
-        return []
-    if not isinstance(document, dict):
-        raise ShapeFileError('%s must be a mapping with a shapes list' % where)
+    """Return the Shapes of a load_document mapping's `shapes` list (names must be unique);
+    raise ShapeFileError naming `where` and the entry."""
     entries = document.get('shapes', [])
     if not isinstance(entries, list):
         raise ShapeFileError('%s: shapes must be a list' % where)
-    shapes = [parse_shape(entry, i) for i, entry in enumerate(entries)]
+    try:
+        shapes = [parse_shape(entry, i) for i, entry in enumerate(entries)]
+    except ShapeFileError as error:
+        raise ShapeFileError('%s: %s' % (where, error)) from None
     names = [s.name for s in shapes]
     twice = sorted({n for n in names if names.count(n) > 1})
     if twice:
         raise ShapeFileError('%s: shape names must be unique, %s appear more than once'
                              % (where, twice))
     return shapes
+
+
+def load_document(text, keys, where):
+    """Return the mapping of a shape file's YAML text ({} for an empty file) with only the
+    top-level `keys` and, if it names one, Baxter's base frame.
+
+    Raises:
+        ShapeFileError: not YAML, not a mapping, an unknown key or another frame (naming where).
+    """
+    try:
+        document = yaml.safe_load(text)
+    except yaml.YAMLError as error:
+        raise ShapeFileError('%s is not YAML: %s' % (where, error)) from None
+    if document is None:
+        return {}
+    if not isinstance(document, dict):
+        raise ShapeFileError('%s must be a mapping (%s)' % (where, ', '.join(keys)))
+    unknown = sorted(set(document) - set(keys))
+    if unknown:
+        raise ShapeFileError('%s: unknown keys %s' % (where, unknown))
+    check_frame(document, where)
+    return document
 
 
 def check_frame(document, where):

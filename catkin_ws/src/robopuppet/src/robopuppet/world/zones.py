@@ -24,7 +24,6 @@ import collections
 import math
 
 import numpy as np
-import yaml
 
 from robopuppet.world import shapes
 from robopuppet.world.clearance import ShapeSet
@@ -56,21 +55,9 @@ def parse_zones(text, where='the zone file'):
         ZoneFileError: not YAML, or an entry not in the format (the message names it).
     """
     try:
-        document = yaml.safe_load(text)
-    except yaml.YAMLError as error:
-        raise ZoneFileError('%s is not YAML: %s' % (where, error)) from None
-    try:
-        if document is None:
-            return []
-        if not isinstance(document, dict):
-            raise shapes.ShapeFileError('must be a mapping (frame, shapes)')
-        unknown = sorted(set(document) - {'frame', 'shapes'})
-        if unknown:
-            raise shapes.ShapeFileError('unknown keys %s' % unknown)
-        shapes.check_frame(document, 'the file')
-        return shapes.parse_shapes(document, 'the file')
+        return shapes.parse_shapes(shapes.load_document(text, ('frame', 'shapes'), where), where)
     except shapes.ShapeFileError as error:
-        raise ZoneFileError('%s: %s' % (where, error)) from None
+        raise ZoneFileError(str(error)) from None
 
 
 def load_zones(path):
