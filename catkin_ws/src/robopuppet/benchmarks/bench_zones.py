@@ -15,7 +15,8 @@ max, and how many arm configurations each check needed. Cases:
   full speed every joint at its URDF velocity limit for one 10 ms command, near the zones
   big jumps  0.5 rad on every joint at once (no teleop command moves this far: an upper bound)
   sliding    like 'near head' but through ZoneGuard.slide, as arm_X checks: held at a zone, a
-             command also tries the joints one at a time (configurations: its last check's)
+             command also tries each joint's step alone, in one batch (configurations: its
+             last check's)
 The target is p99 under 0.5 ms for the teleop cases on the 2-core robot host. CPU time (this
 thread's) is printed beside wall time: on a loaded machine the wall time also holds the waits
 for a core, so compare runs made under the same load average (printed at start and end), or

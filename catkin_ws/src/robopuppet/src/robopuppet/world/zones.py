@@ -140,11 +140,12 @@ class ZoneGuard:
         return list(q_from + end * motion), Hit(self.names[z], self.capsules.links[c])
 
     def slide(self, q_from, q_to):
-        """Return (q_out, hit) like limit, but when limit cannot move at all, move as far as
-        it can along the joints one at a time (largest step first) and then go straight to
-        where that led, as limit allows: an arm held at a zone's boundary follows the parts of
-        the next command that lead along or away from the zone. The returned motion is always
-        the straight one from q_from, checked by limit.
+        """Return (q_out, hit) like limit, but when limit cannot move at all, take the joints
+        whose own step leaves every pair at a zone no nearer (tried alone, in one batch) and
+        go straight to where those steps lead, as limit allows (the largest of them alone if
+        together they cannot move): an arm held at a zone's boundary follows the parts of the
+        next command that lead along or away from the zone. The returned motion is always the
+        straight one from q_from, checked by limit.
         """
         asked = (tuple(q_from), tuple(q_to))
         if asked == self._stuck[0]:   # pushing on at a zone: the same answer as last time
@@ -153,14 +154,23 @@ class ZoneGuard:
         if hit is None or list(q_out) != list(q_from):
             return q_out, hit
         start = np.asarray(q_from, np.float64)
-        step, reached = np.asarray(q_to, np.float64) - start, start.copy()
-        for j in np.argsort(-np.abs(step)):
-            if step[j] != 0.0:
-                alone = reached.copy()
-                alone[j] += step[j]
-                reached = np.asarray(self.limit(reached, alone)[0])
-        if not np.array_equal(reached, start):
+        step = np.asarray(q_to, np.float64) - start
+        joints = np.flatnonzero(step)
+        tried = np.repeat(start[None], len(joints) + 1, axis=0)
+        tried[np.arange(1, len(joints) + 1), joints] += step[joints]
+        reach = self.capsules.reach[:, joints] * np.abs(step[joints])      # (C, J)
+        gaps = self._clearance(tried, reach.max(axis=1) + NEAR_M)          # (Z, 1 + J, C)
+        near = gaps[:, :1] < NEAR_M
+        free = joints[~(near & (gaps[:, 1:] < gaps[:, :1])).any(axis=(0, 2))]
+        choices = [free] if len(free) else []
+        if len(free) > 1:   # together they may still come nearer: the largest step alone
+            choices.append(free[[np.argmax(np.abs(step[free]))]])
+        for chosen in choices:
+            reached = start.copy()
+            reached[chosen] += step[chosen]
             q_out, _ = self.limit(start, reached)
+            if list(q_out) != list(q_from):
+                break
         self._stuck = (asked, (q_out, hit))
         return q_out, hit
 
