@@ -1,5 +1,7 @@
-"""Unit tests of the replay core: schedule, speed factor, approach, grippers, stop rules."""
+"""Unit tests of the replay core: schedule, speed factor, approach, grippers, stop rules,
+keep-out zones."""
 import math
+import re
 import types
 
 import numpy as np
@@ -7,6 +9,7 @@ import pytest
 
 from robopuppet import baxter_description
 from robopuppet.episodes import replay
+from robopuppet.world import arm_capsules, shapes, zones
 from robopuppet.episodes.export import Samples
 from robopuppet.interface import BAXTER_SIDES, BUTTON_OPMODE, BUTTON_RIGHT
 
@@ -186,3 +189,103 @@ def test_the_script_holds_joints_a_command_did_not_name():
         replay.episode_script(rec, ['left'])
     with pytest.raises(replay.ReplayError, match='no position commands'):
         replay.episode_script(recording({'right': Samples(np.zeros(0), np.zeros((0, 7)))}))
+
+
+# ---- keep-out zones ------------------------------------------------------------------------
+
+def capsules(side):
+    with open(baxter_description.URDF_PATH) as urdf:
+        return arm_capsules.ArmCapsules(baxter_description.load(), urdf.read(), side)
+
+
+def zone_on_the_ramp():
+    """A 3 cm sphere around the right gripper's finger halfway up ramp_path()'s joint 3 (the
+    finger passes it 8 cm from the ramp's ends)."""
+    arm = capsules('right')
+    mid = list(START)
+    mid[3] += 0.2
+    finger = arm.segments([mid])[0, arm.links.index('r_gripper_r_finger')].mean(axis=1)
+    return shapes.parse_shape({'name': 'test zone', 'type': 'sphere', 'radius': 0.03,
+                               'xyz': finger.tolist()})
+
+
+def guarded_run(path, robot, guards, t1=4.0):
+    """Start and play with the robot following exactly; return (core, [Step], [commands sent to
+    the right arm from Baxter's pose before the first to the last])."""
+    core, first = started(path, robot=robot, guards=guards)
+    steps = [first] + [s for _, s in run(core, 0.0, t1)]
+    return core, steps, [list(robot)] + [s.commands['right'] for s in steps if s.commands]
+
+
+def assert_never_into(guard, sent):
+    """Check each motion from one command sent to the next at 40 points along it (steps of at
+    most 0.6 mrad here) with the guard's own clearance: no capsule inside any zone."""
+    for a, b in zip(sent, sent[1:]):
+        for s in np.linspace(0.0, 1.0, 40):
+            q = np.add(a, s * np.subtract(b, a))
+            assert guard.clearance(q).min() > 0.0, 'a sent motion enters a zone at %s' % q
+
+
+def test_an_episode_into_a_zone_stops_before_it_unsent_naming_zone_link_and_arm():
+    guard = zones.ZoneGuard(capsules('right'), [zone_on_the_ramp()])
+    assert guard.clearance(START).min() > 0.05
+    unguarded = guarded_run(ramp_path(), START, None)[2]   # without the guard: into the zone
+    assert min(guard.clearance(q).min() for q in unguarded) < -0.02
+    core, steps, sent = guarded_run(ramp_path(), START, {'right': guard})
+    assert core.phase == replay.STOPPED
+    assert re.fullmatch(r"keep-out zone 'test zone': (\w+) of the right arm would enter it",
+                        core.why), core.why
+    assert core.why.split(': ')[1].split()[0] in guard.capsules.links
+    assert replay.PLAY in [s.phase for s in steps]          # it stopped in play ...
+    assert guard.clearance(sent[-1]).min() < 0.01           # ... at the zone, not before
+    assert_never_into(guard, sent)
+    assert steps[-1].commands['right'] == sent[-1] and steps[-1].grips == []
+    played = len([s for s in steps if s.phase == replay.PLAY])
+    assert sent[1:played + 2] == unguarded[1:played + 2]   # unchanged up to the zone
+
+
+def test_a_stay_command_does_not_lead_into_a_zone_either():
+    guard = zones.ZoneGuard(capsules('right'), [zone_on_the_ramp()])
+    core, _ = started(ramp_path(), guards={'right': guard})
+    run(core, 0.0, 0.5)
+    last = core.step(0.5).commands['right']
+    beyond = list(START)
+    beyond[3] += 0.4   # Baxter measured past the zone (say a zone file changed): not there
+    core.on_robot_pose(0.5, {'right': beyond})
+    core.on_button(0.5, BUTTON_OPMODE)
+    stay = core.step(0.51).commands['right']
+    assert 'button 1' in core.why and stay != pytest.approx(beyond, abs=0.01)
+    assert_never_into(guard, [last, stay])
+
+
+def test_an_approach_across_a_zone_stops_before_it():
+    guard = zones.ZoneGuard(capsules('right'), [zone_on_the_ramp()])
+    far = list(START)
+    far[3] += 0.4   # the approach back to START passes the zone; the episode leads away
+    assert guard.clearance(far).min() > 0.05
+    core, steps, sent = guarded_run(ramp_path(rise_rad=-0.3), far, {'right': guard})
+    assert core.phase == replay.STOPPED and replay.PLAY not in [s.phase for s in steps]
+    assert core.why.startswith("keep-out zone 'test zone': ")
+    assert core.why.endswith('of the right arm would enter it on the way to the start pose')
+    assert guard.clearance(sent[-1]).min() < 0.01
+    assert_never_into(guard, sent)
+
+
+def test_an_episode_clear_of_the_zones_plays_as_without_them():
+    raised = [-0.2, -1.0, -0.3, 1.0, -0.3, 0.9, 0.25]   # tests/integration/hand_pose.py's
+    path = ramp_path(rise_rad=0.4)
+    path['right'].values[:] += np.subtract(raised, START)
+    shipped = zones.load_zones(baxter_description.URDF_PATH.replace(
+        'urdf/baxter.urdf', 'config/zones.yaml'))
+    guard = zones.ZoneGuard(capsules('right'), shipped)
+    far = list(raised)
+    far[0] += 0.3
+    plain, guarded = (guarded_run(path, far, guards)[1:] for guards in (None, {'right': guard}))
+    assert guarded == plain and plain[0][-1].phase == replay.FINISHED
+
+
+def test_an_arm_without_a_guard_is_not_checked():
+    guard = zones.ZoneGuard(capsules('left'), [zone_on_the_ramp()])
+    core, steps, sent = guarded_run(ramp_path(), START, {'left': guard})
+    assert core.phase == replay.FINISHED and core.guards == {}
+    assert sent == guarded_run(ramp_path(), START, None)[2]

@@ -1,8 +1,10 @@
 """arm_X's keep-out zones: the zone file it reads and the zones it shows RViz (an adapter).
 
 The zones bind the arm controller (world.zones.ZoneGuard, wired in through teleop.Teleop); this
-module reads them and draws them. docs/zones.md describes both.
+module reads them and draws them. docs/zones.md describes both. The replay (episodes.replay_node)
+reads the same files the running arm controllers were given, through here.
 """
+import os
 
 import rospkg
 import rospy
@@ -17,23 +19,42 @@ ZONE_COLOUR = (0.9, 0.1, 0.1)   # a zone without a colour of its own
 ZONE_ALPHA = 0.3                # translucent: what is inside stays visible
 NAMESPACE, NAME_NAMESPACE = 'keep-out zones', 'keep-out zone names'
 TEXT_HEIGHT_M = 0.05
+ZONES_PARAM = 'zones_file'   # arm_X's ~zones_file: arm.launch sets /arm_L/zones_file, ...
 
 
 def zones_file():
     """Return ~zones_file: '' (the default) for no zones; arm.launch's zones_file sets it."""
-    return rospy.get_param('~zones_file', '')
+    return rospy.get_param('~' + ZONES_PARAM, '')
 
 
-def load_guards(path):
-    """Return ({side: ZoneGuard}, zone Shapes) for a zone file ('' : no zones, no guards).
+def controllers_zones_files():
+    """Return {puppet side: zone file} that the arm controllers arm_L and arm_R were given, as
+    the parameter server holds it ('' for none); a side whose parameter is not set is left out.
+    """
+    names = {side: '/arm_%s/%s' % (side, ZONES_PARAM) for side in interface.PUPPET_SIDES}
+    return {side: str(rospy.get_param(name)) for side, name in names.items()
+            if rospy.has_param(name)}
+
+
+def package_zones_file():
+    """Return the package's zone file, config/zones.yaml (arm.launch's default too)."""
+    return os.path.join(rospkg.RosPack().get_path('robopuppet'), 'config', 'zones.yaml')
+
+
+def load_guards(*paths):
+    """Return ({side: ZoneGuard}, zone Shapes) for zone files, each zone once ('' : none; no
+    file named, or only '': no guards).
 
     Raises:
         ValueError (world.zones.ZoneFileError, arm_capsules.CapsuleError): a bad zone file or
             robot description, named in the message; arm_X does not start without its zones.
     """
-    if not path:
+    paths = [path for path in paths if path]
+    if not paths:
         return {}, []
-    found = zones.load_zones(path)
+    found = []
+    for path in paths:
+        found += [zone for zone in zones.load_zones(path) if zone not in found]
     urdf = bd.urdf_path(rospkg.RosPack().get_path('robopuppet'))
     with open(urdf) as stream:
         text = stream.read()

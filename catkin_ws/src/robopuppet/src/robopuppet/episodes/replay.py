@@ -9,8 +9,16 @@ Safety, the arm controller's rules: every command is clamped to the URDF's joint
 moves through a joint_motion.SpeedBudget (never faster than the joint's velocity limit, so no
 speed factor can exceed it, and never a jump); the replay first moves slowly to the episode's
 start pose; when a stop rule fires (button 1, a stop request, the puppet moved, Baxter
-disabled, the puppet starts following) each replayed arm is commanded to stay where Baxter
-measures it, at once.
+disabled, the puppet starts following, a keep-out zone) each replayed arm is commanded to stay
+where Baxter measures it, at once.
+
+Keep-out zones (docs/zones.md), as arm_X keeps them for teleoperation: every command of an arm
+with a guard (world.zones.ZoneGuard), on the approach and in play, is checked along its whole
+motion from the last command sent to that arm (ZoneGuard.limit). A command the guard would cut
+is not sent: the replay stops (a recorded demonstration is not bent into another motion, and
+the nurse learns why), naming the zone, the link and the arm, and whether it was on the way to
+the start pose. A guarded arm's stay command is itself checked from the last command sent: it
+is where Baxter measures the arm, or as near to that as the motion there is proven clear.
 """
 import collections
 
@@ -26,6 +34,8 @@ APPROACH_TOLERANCE_RAD = 0.02   # measured this close to the start pose: the epi
 SETTLE_TIMEOUT_S = 3.0          # ... or this long after the command reached the start pose
 PUPPET_MOVED_RAD = 0.1          # a puppet joint moved this far since the start stops the replay
 APPROACH, PLAY, FINISHED, STOPPED = 'approach', 'play', 'finished', 'stopped'
+ZONE_CUT = "keep-out zone '%s': %s of the %s arm would enter it"   # zone, link, Baxter side
+ON_THE_WAY = ' on the way to the start pose'                       # ... added on the approach
 
 Grip = collections.namedtuple('Grip', 'side position')
 Grip.__doc__ = "Send Baxter's gripper on `side` a 'go' to position (% of travel)."
@@ -68,6 +78,12 @@ def episode_script(recording, arms=None):
     return paths, grips
 
 
+def check_speed(speed):
+    """Raise ReplayError unless 0 < speed <= MAX_SPEED (a speed factor)."""
+    if not 0.0 < speed <= MAX_SPEED:
+        raise ReplayError('speed must be within 0 (exclusive) and %g, got %g' % (MAX_SPEED, speed))
+
+
 class Replay:
     """Play an episode's command paths onto Baxter's arms at a speed factor.
 
@@ -79,15 +95,16 @@ class Replay:
         approach_speed_rad_s: joint speed to the start pose (capped by the velocity limits).
         puppet_moved_rad: a puppet joint moving further than this from where it was at the
             start stops the replay.
+        guards: {Baxter side: world.zones.ZoneGuard} of the arms keep-out zones bind (None:
+            none); a command whose motion would enter a zone stops the replay unsent.
     Raises:
         ReplayError: the speed is out of range.
     """
 
     def __init__(self, paths, grips, limits, speed=1.0, period_s=0.01,
-                 approach_speed_rad_s=APPROACH_SPEED_RAD_S, puppet_moved_rad=PUPPET_MOVED_RAD):
-        if not 0.0 < speed <= MAX_SPEED:
-            raise ReplayError('speed must be within 0 (exclusive) and %g, got %g'
-                              % (MAX_SPEED, speed))
+                 approach_speed_rad_s=APPROACH_SPEED_RAD_S, puppet_moved_rad=PUPPET_MOVED_RAD,
+                 guards=None):
+        check_speed(speed)
         self.paths, self.grips, self.limits, self.speed = paths, grips, limits, speed
         self._period_s, self._puppet_moved_rad = period_s, puppet_moved_rad
         self._approach_speeds = {side: [min(approach_speed_rad_s, lim.velocity)
@@ -97,7 +114,8 @@ class Replay:
         self.robot = BaxterWatch(limits)
         self.phase, self.why = None, ''
         self._puppet, self._puppet_start = {}, {}
-        self._budgets, self._stay, self._start_pose = {}, {}, {}
+        self.guards = {side: guard for side, guard in (guards or {}).items() if side in paths}
+        self._budgets, self._stay, self._start_pose, self._sent = {}, {}, {}, {}
         self._reached_t = self._play_t = None
         self._episode_s = self.start_s
 
@@ -140,9 +158,12 @@ class Replay:
         if self.phase not in (APPROACH, PLAY):
             return
         self.phase, self.why = STOPPED, why
-        for side, budget in self._budgets.items():
+        for side, sent in self._sent.items():
             now = self.robot.now(side, t)
-            self._stay[side] = now if now is not None else list(budget.command)
+            stay = now if now is not None else list(sent)
+            if side in self.guards:   # no stay command leads into a zone either
+                stay = list(self.guards[side].limit(sent, stay)[0])
+            self._stay[side] = stay
 
     # ---- steps ---------------------------------------------------------------------------
 
@@ -160,12 +181,13 @@ class Replay:
             self._start_pose[side] = clamp(
                 [h if np.isnan(f) else float(f) for f, h in zip(first, here)], self.limits[side])
             self._budgets[side] = SpeedBudget(here, self._period_s, t)
+            self._sent[side] = list(here)
         self._puppet_start = dict(self._puppet)
         self.phase = APPROACH
         grips = [Grip(side, self._grip_at(side, self.start_s)) for side in sorted(self.grips)
                  if self._grip_at(side, self.start_s) is not None]
         step = self.step(t)
-        return step._replace(grips=grips + step.grips)
+        return step if step.phase == STOPPED else step._replace(grips=grips + step.grips)
 
     def step(self, t):
         """Return the Step at time t (call at the command rate after start())."""
@@ -185,6 +207,8 @@ class Replay:
         commands = {side: self._budgets[side].move(self._start_pose[side],
                                                    self._approach_speeds[side], t)
                     for side in sorted(self.paths)}
+        if not self._clear_of_zones(t, commands, ON_THE_WAY):
+            return self.step(t)
         if all(commands[s] == self._start_pose[s] for s in commands):
             self._reached_t = t if self._reached_t is None else self._reached_t
             measured = {s: self.robot.now(s, t) for s in commands}
@@ -207,11 +231,24 @@ class Replay:
             commands[side] = self._budgets[side].move(
                 target, [lim.velocity for lim in self.limits[side]], t)
             arrived = arrived and commands[side] == target
+        if not self._clear_of_zones(t, commands, ''):
+            return self.step(t)
         grips = [Grip(side, position) for side in sorted(self.grips)
                  for g_t, position in self.grips[side] if before < g_t <= self._episode_s]
         if self._episode_s >= self.end_s and arrived:
             self.phase = FINISHED
         return Step(PLAY, commands, grips)
+
+    def _clear_of_zones(self, t, commands, where):
+        """Return True and take commands as sent when no guarded arm's motion to its command
+        enters a zone; else stop (naming zone, link, arm and `where`) and return False."""
+        for side in sorted(set(commands) & set(self.guards)):
+            _, hit = self.guards[side].limit(self._sent[side], commands[side])
+            if hit is not None:
+                self.stop(t, ZONE_CUT % (hit.zone, hit.link, side) + where)
+                return False
+        self._sent.update((side, list(command)) for side, command in commands.items())
+        return True
 
     def _grip_at(self, side, episode_s):
         """Return the last gripper position (%) commanded at or before episode_s, or None."""

@@ -1,12 +1,20 @@
 """The terminal command replay: play a recorded episode back onto the robot or into the puppet.
 
     rosrun robopuppet replay EPISODE [--speed S] [--side L|R|LR] [--arms left,right]
+                             [--zones FILE]
     rosrun robopuppet replay EPISODE --into puppet [--side L|R|LR] [--speed S]
 
 Onto the robot (default) it drives robopuppet.episodes.replay through Baxter's own API (the
 stand-in's too); into the puppet, robopuppet.episodes.puppet_playback through
 robopuppet.episodes.puppet_player. Exit code 0: the episode played to its end; 1: stopped by a
 stop rule; 2: refused or failed (a message says why).
+
+Onto the robot the replay keeps Baxter's arms out of the keep-out zones (docs/zones.md): a
+command that would take an arm into one stops the replay unsent (exit 1, naming zone, link and
+arm). The zones: --zones FILE (/dev/null, an empty file: none); by default those of the running
+arm controllers, their zones_file parameters (/arm_L/zones_file, /arm_R/zones_file, set by
+arm.launch; '' for none), all of them when the two differ; with neither set, the package's
+config/zones.yaml. A bad zone file refuses the replay (exit 2).
 """
 import argparse
 import json
@@ -20,6 +28,7 @@ from std_msgs.msg import Empty, UInt8
 
 from robopuppet import baxter_description
 from robopuppet import interface as ifc
+from robopuppet.arm import zone_topics
 from robopuppet.arm.baxter_upkeep import CMD_GO
 from robopuppet.arm.readings import arm_poses, joint_angles
 from robopuppet.episodes import (export, export_cli, export_files, puppet_playback,
@@ -39,6 +48,8 @@ class ReplayNode(Player):
     puppet side user_btn, joint_states and teleop_state; interface.REPLAY_STOP (Empty).
     Publishes: /robot/limb/<side>/joint_command (POSITION_MODE, RATE_HZ) and
     /robot/end_effector/<side>_gripper/command ('go') of the replayed arms.
+    Parameters (main reads them unless --zones is given): /arm_L/zones_file and
+    /arm_R/zones_file, the arm controllers' ~zones_file: the keep-out zones the core keeps.
     """
 
     def __init__(self, core, sides, say):
@@ -112,13 +123,37 @@ class ReplayNode(Player):
             return 2
         with self._lock:
             self._send(self.core.start(time.monotonic()))
-        self._say('moving slowly to the start pose of %s' % ', '.join(sorted(self.core.paths)))
+        if self.core.phase == replay.APPROACH:
+            self._say('moving slowly to the start pose of %s' % ', '.join(
+                sorted(self.core.paths)))
         self._play('replay', RATE_HZ, 1.0)
         if self.core.phase == replay.FINISHED:
             self._say('finished')
             return 0
         self._say('stopped: %s' % (self.core.why or 'shut down'))
         return 1
+
+
+def keepout_zones(given, say):
+    """Return {Baxter side: ZoneGuard} ({} when every file is '') of the zones the replay keeps
+    the arms out of, and say which (module docstring: --zones FILE, else the running arm
+    controllers', else the package's).
+
+    Raises:
+        ValueError: a zone file is bad (the message names it and the entry).
+    """
+    if given is not None:
+        files, whose = [given], '--zones'
+    else:
+        running = zone_topics.controllers_zones_files()
+        files = sorted(set(running.values())) or [zone_topics.package_zones_file()]
+        whose = ("%s zones_file%s" % (" and ".join("arm_%s's" % s for s in sorted(running)),
+                                      ' differ: the zones of both' if len(files) > 1 else '')
+                 if running else "the package's: no arm controller's zones_file is set")
+    guards, found = zone_topics.load_guards(*files)
+    say('keep-out zones: %s (%d zone%s, %s)' % (' and '.join(p or "''" for p in files),
+                                                 len(found), 's'[len(found) == 1:], whose))
+    return guards
 
 
 def main(argv=None):
@@ -135,9 +170,16 @@ def main(argv=None):
                                        "the puppet, the arms played (default: the episode's)")
     parser.add_argument('--arms', help="Baxter arms to replay, e.g. right or left,right "
                                        "(default: those the episode commands)")
+    parser.add_argument('--zones', metavar='FILE',
+                        help="keep-out zone file the robot's arms keep out of (/dev/null: none; "
+                             "default: the running arm controllers' zones_file, all of them "
+                             "when arm_L's and arm_R's differ, else the package's "
+                             "config/zones.yaml)")
     args = parser.parse_args(rospy.myargv(argv if argv is not None else sys.argv)[1:])
-    if args.arms and args.into == 'puppet':
-        parser.error('--arms names Baxter arms: not with --into puppet')
+    for given, what in ((args.arms, '--arms names Baxter arms'),
+                        (args.zones, '--zones binds Baxter arms')):
+        if given is not None and args.into == 'puppet':
+            parser.error('%s: not with --into puppet' % what)
 
     def say(text):
         print('replay: %s' % text, file=sys.stderr, flush=True)
@@ -154,11 +196,18 @@ def main(argv=None):
             arms = args.arms.replace(',', ' ').split() if args.arms else None
             limits = {s: baxter_description.arm_limits(s) for s in ifc.BAXTER_SIDES}
             paths, grips = replay.episode_script(recording, arms)
-            core = replay.Replay(paths, grips, limits, args.speed, 1.0 / RATE_HZ)
+            replay.check_speed(args.speed)
     except (export_files.EpisodeError, ValueError) as error:
         say('failed: %s' % error)
         sys.exit(2)
     rospy.init_node('replay', anonymous=True)
+    if args.into == 'robot':   # the zones' default comes from the parameter server
+        try:
+            guards = keepout_zones(args.zones, say)
+        except ValueError as error:   # a bad zone file (ZoneFileError) or robot description
+            say('refused: %s' % error)
+            sys.exit(2)
+        core = replay.Replay(paths, grips, limits, args.speed, 1.0 / RATE_HZ, guards=guards)
     node = (puppet_player.PuppetPlayer(core, say) if args.into == 'puppet'
             else ReplayNode(core, sides, say))
     sys.exit(node.run())
