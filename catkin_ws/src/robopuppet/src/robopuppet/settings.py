@@ -54,6 +54,10 @@ BY_NAME = {s.name: s for s in SETTINGS}
 RANGE_PAIRS = (('angle_min', 'angle_max'),
                ('velocity_min', 'velocity_max'),
                ('voltage_min', 'voltage_max'))
+# Pairs whose range must hold 0: the firmware's angle filter moves the reported angle by at
+# least velocity_min and at most velocity_max per second, so without 0 the angle drifts for ever
+# (out of [-pi, pi], and serial_X drops every set). A voltage range may exclude 0.
+ZERO_RANGES = (('velocity_min', 'velocity_max'),)
 SIGNS = ('sign_angle', 'sign_motor')
 
 

@@ -198,6 +198,17 @@ def test_a_gripper_that_follows_the_puppet_closed_is_not_calibrated():
     assert [a.side for a in rig.core.on_gripper_state(rig.t, 'left', 65539, False)] == ['left']
 
 
+def test_an_unknown_encoder_status_is_not_working_and_is_reported_cut_short():
+    rig = ready()
+    rig.press(interface.BUTTON_RIGHT)
+    rig.t += PERIOD_S
+    rig.puppet(statuses='WORKING' + 'x' * 100000)   # every joint
+    report = report_in(rig.step(puppet=False))
+    assert report.state == interface.CALIBRATING
+    assert "joints 0, 1, 2, 3, 4, 5, 6 'WORKING" in report.detail, report.detail
+    assert len(report.detail) < 200
+
+
 def test_refused_and_non_finite_joint_states_are_counted_and_explained():
     rig = ready()
     taken, problem = rig.core.on_joint_states(rig.t, ['joint_0'], [0.0], rig.operator_s(),

@@ -72,6 +72,10 @@ def test_render_only_touches_the_named_entry():
     ('angle_min', 2.0, 'joint 4 angle_min = 2.0: above angle_max = 1.571'),
     ('velocity_max', -7.0, 'joint 4 velocity_max = -7.0: below velocity_min = -6.283'),
     ('voltage_min', 7.0, 'joint 4 voltage_min = 7.0: above voltage_max = 6.5'),
+    ('velocity_max', -1.0, 'joint 4 velocity_min..velocity_max = -6.283..-1: the range must '
+     'hold 0'),
+    ('velocity_min', 0.5, 'joint 4 velocity_min..velocity_max = 0.5..6.283: the range must '
+     'hold 0'),
     ('no_such_setting', 1.0, "joint 4: unknown setting 'no_such_setting'"),
     ('pid_kp', 'abc', "joint 4 pid_kp = 'abc': not a number"),
 ])

@@ -310,6 +310,15 @@ def test_a_failed_write_loads_everything_again_after_the_retry_time():
     (lambda s: list(s.items()) + [(3, s[3])], 'joints'),
     (lambda s: [(j, dict(v, pid_kd=math.nan) if j == 4 else v) for j, v in s.items()],
      'joint 4 pid_kd'),
+    # Garbage on active_settings (test_topic_garbage): encodable, but outside the bounds.
+    (lambda s: [(j, dict(v, sign_angle=4.4) if j == 2 else v) for j, v in s.items()],
+     'joint 2 sign_angle = 4.4: a sign must be +1 or -1'),
+    (lambda s: [(j, dict(v, pid_kp=-1.0) if j == 0 else v) for j, v in s.items()],
+     'joint 0 pid_kp = -1.0: outside its bound'),
+    (lambda s: [(j, dict(v, angle_min=1.0, angle_max=0.5) if j == 6 else v)
+                for j, v in s.items()], 'joint 6 angle_min = 1.0 is above angle_max'),
+    (lambda s: [(j, dict(v, velocity_min=-1.0, velocity_max=-0.5) if j == 1 else v)
+                for j, v in s.items()], 'joint 1 velocity_min..velocity_max = -1.0..-0.5'),
 ])
 def test_bad_stored_settings_are_logged_and_the_previous_ones_kept(joints, problem):
     sync, device, clock, log = loaded()

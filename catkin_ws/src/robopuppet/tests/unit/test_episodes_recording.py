@@ -1,4 +1,5 @@
 """Unit tests of the recorder's pure core: topics, button 4, names, metadata, disk rule, status."""
+import math
 import time
 
 import pytest
@@ -134,6 +135,11 @@ def test_an_episode_counts_messages_per_topic_and_reports_its_duration():
     (recording.Status(True, '/d/e.bag', 75.0, 0, 9, ''), 'REC 01:15, 0.0 MB'),
     (recording.Status(False, '/d/e.bag', 75.0, 0, 9, ''), 'stopped: e.bag (01:15, 0.0 MB)'),
     (recording.Status(False, '', 0, 0, 0, 'disk nearly full'), 'disk nearly full'),
+    # Garbage on /puppet/recording (test_topic_garbage): no exception in the GUI's frame.
+    (recording.Status(True, '/d/e.bag', math.inf, 0, 9, ''), 'REC --:--, 0.0 MB'),
+    (recording.Status(True, '/d/e.bag', math.nan, 0, 9, ''), 'REC --:--, 0.0 MB'),
+    (recording.Status(False, '/d/e.bag', -3e38, 2 ** 64 - 1, 9, ''),
+     'stopped: e.bag (--:--, 18446744073709.6 MB)'),
 ])
 def test_the_status_line(status, text):
     assert recording.status_text(status) == text

@@ -113,6 +113,18 @@ def test_voltage_limits_are_those_of_the_joint_plus_the_margin():
     assert rx.implausible_frames == 0
 
 
+def test_0_volts_is_plausible_whatever_the_limits():
+    # A limp device reports 0 V; limits such as [-1.5, -0.5] V (allowed) must not make every
+    # set implausible (found by test_topic_garbage: the link then re-opened every 4 s).
+    rx = state_set.Receiver(lambda joint: (-1.5, -0.5) if joint == 2 else (1.0, 1.0))
+    messages = [codec.JointState(m.joint, m.status, m.angle_rad, 0.0)
+                if type(m) is codec.JointState else m for m in set_messages(7)]
+    assert len(feed(rx, encode(messages))) == 1
+    assert rx.implausible_frames == 0
+    messages[2] = codec.JointState(2, 0, 0.0, 0.75)   # beyond 0 V plus the margin
+    assert feed(rx, encode(messages)) == [] and rx.implausible_frames == 1
+
+
 def test_float32_pi_is_a_plausible_angle():
     messages = set_messages(0)
     pi32 = struct.unpack('<f', struct.pack('<f', math.pi))[0]

@@ -165,8 +165,10 @@ class ArmNode:
     def _watch(self):
         """Fault the teleop when the command loop has not completed a step for a while."""
         wait_s = controller.STALL_PERIODS * self._period_s
-        if not self._lock.acquire(timeout=wait_s):
-            raise RuntimeError('the command loop holds its lock for over %.2f s' % wait_s)
+        if not self._lock.acquire(timeout=wait_s):   # starved or stuck: the stall is faulted
+            rospy.logerr_throttle(5, '%s: the command loop holds its lock for over %.2f s',
+                                  self._name, wait_s)   # once it lets go (core.stall)
+            return
         try:
             why = self._core.stall(time.monotonic())
             if why:

@@ -11,6 +11,7 @@ Two clocks: `t` (monotonic s) paces teleop; `now_s` (the robot host's ROS clock,
 pings carry and puppet samples are aged on.
 """
 import collections
+import reprlib
 
 from robopuppet import baxter_description, settings
 from robopuppet.arm.baxter_upkeep import BaxterUpkeep
@@ -19,8 +20,8 @@ from robopuppet.arm.link_clock import Refused
 from robopuppet.arm.link_watch import LATE, STALE_KINDS, LinkWatch
 from robopuppet.arm.readings import arm_poses, joint_angles, non_finite_joints
 from robopuppet.arm.teleop import Grip, Teleop
-from robopuppet.interface import (BAXTER_SIDES, CALIBRATING, DIAG_TELEOP, DISCONNECTED, FAULT,
-                                  FOLLOWING, NO_ROBOT, READY, puppet_ns)
+from robopuppet.interface import (BAXTER_SIDES, CALIBRATING, DIAG_TELEOP, DISCONNECTED,
+                                  ENC_STATUS, FAULT, FOLLOWING, NO_ROBOT, READY, puppet_ns)
 
 STATE_PERIOD_S = 0.5  # the report (teleop_state, /diagnostics) goes out at least this often
 # The command loop has failed when it has not completed a step for this many command periods.
@@ -81,8 +82,10 @@ class ArmController:
     # ---- inputs --------------------------------------------------------------------------
 
     def on_status(self, t, joint, status):
-        """Take a joint's encoder status (interface.ENC_STATUS)."""
-        self._statuses[joint] = status
+        """Take a joint's encoder status (interface.ENC_STATUS). Any other text keeps the joint
+        from counting as Working and is kept cut short (reprlib), as the report and the log
+        show it: a 10^5-character garbage status would otherwise go into every teleop_state."""
+        self._statuses[joint] = status if status in ENC_STATUS else reprlib.repr(status)
 
     def on_joint_states(self, t, names, positions, stamp_s, now_s):
         """Take the puppet's joint states, stamped stamp_s (operator clock) and received at

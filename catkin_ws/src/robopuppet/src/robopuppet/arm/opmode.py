@@ -24,6 +24,7 @@ fault (a silent puppet gets no setpoints). Baxter's poses come through BaxterWat
 no non-finite or unbelievable pose, so such a value never becomes a setpoint.
 """
 import collections
+import reprlib
 
 from robopuppet.arm.baxter_upkeep import ROBOT_TIMEOUT_S
 from robopuppet.arm.joint_motion import driven_arm, in_puppet_space
@@ -95,7 +96,8 @@ class PuppetOpmode:
         """Adopt the opmode others set on <ns>/opmode (a repeat of the current one changes
         nothing); return '' or a warning to log when `mode` is no opmode (ignored)."""
         if mode not in OPMODES:
-            return 'opmode must be one of %s, got %r; ignored' % ('/'.join(OPMODES), mode)
+            return 'opmode must be one of %s, got %s; ignored' % ('/'.join(OPMODES),
+                                                                  reprlib.repr(mode))
         if mode != self.mode:
             self.mode = mode
             self._others_hold = mode == HOLD

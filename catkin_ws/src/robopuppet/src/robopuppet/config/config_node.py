@@ -1,4 +1,5 @@
 """config_X: keeps one puppet arm's ini file, serves and publishes its settings."""
+import reprlib
 import threading
 import time
 
@@ -126,8 +127,8 @@ class ConfigNode:
 
     def _on_opmode(self, msg):
         if msg.data not in interface.OPMODES:
-            rospy.logwarn('%s: opmode must be one of %s, got %r; settings profile unchanged',
-                          self._ns, '/'.join(interface.OPMODES), msg.data)
+            rospy.logwarn('%s: opmode must be one of %s, got %s; settings profile unchanged',
+                          self._ns, '/'.join(interface.OPMODES), reprlib.repr(msg.data))
             return
         profile = feel_profile.PROFILE if msg.data == interface.FEEL else ''
         with self._lock:

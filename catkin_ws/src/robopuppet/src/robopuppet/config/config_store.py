@@ -92,6 +92,14 @@ def check_request(joint_values, joint, names, values):
         else:
             errors.append('joint %d %s = %r: above %s = %s' % (
                 joint, low, requested.get(low, result[low]), high, format_value(result[high])))
+    for low, high in settings.ZERO_RANGES:
+        if (low in refused or high in refused or result[low] > result[high]
+                or result[low] <= 0.0 <= result[high]):
+            continue
+        errors.append('joint %d %s..%s = %s..%s: the range must hold 0 (the firmware\'s angle '
+                      'filter would drift the angle)' % (joint, low, high,
+                                                          format_value(result[low]),
+                                                          format_value(result[high])))
     if errors:
         raise InvalidSetting(*errors)
     return result
@@ -226,6 +234,13 @@ def parse(text):
             if values[low] > values[high]:
                 problems.append('[%s] %s = %r is above %s = %r: using defaults for both'
                                 % (sec, low, values[low], high, values[high]))
+                values[low] = to_float32(settings.DEFAULTS[low])
+                values[high] = to_float32(settings.DEFAULTS[high])
+        for low, high in settings.ZERO_RANGES:
+            values = config[joint]
+            if not values[low] <= 0.0 <= values[high]:
+                problems.append('[%s] %s..%s = %r..%r does not hold 0: using defaults for both'
+                                % (sec, low, high, values[low], values[high]))
                 values[low] = to_float32(settings.DEFAULTS[low])
                 values[high] = to_float32(settings.DEFAULTS[high])
     return config, problems + feel_profile.feel_values(

@@ -4,6 +4,7 @@ Pure: no rospy, no clock; the node passes times in. The format these follow is f
 docs/demonstrations.md ("The episode format"), shared with the exporter.
 """
 import collections
+import math
 import os
 import re
 import time
@@ -200,11 +201,17 @@ class Episode:
 
 
 def status_text(status):
-    """Return the one-line summary the GUI shows, e.g. 'REC 00:12, 3.4 MB'."""
+    """Return the one-line summary the GUI shows, e.g. 'REC 00:12, 3.4 MB'.
+
+    status comes off the wire: a duration that is not a finite number >= 0 shows as '--:--'.
+    """
     if status is None:
         return 'no recorder'
-    minutes, seconds = divmod(int(status.duration_s), 60)
-    size = '%02d:%02d, %.1f MB' % (minutes, seconds, status.size_bytes / 1e6)
+    if math.isfinite(status.duration_s) and status.duration_s >= 0:
+        duration = '%02d:%02d' % divmod(int(status.duration_s), 60)
+    else:
+        duration = '--:--'
+    size = '%s, %.1f MB' % (duration, status.size_bytes / 1e6)
     if status.recording:
         return 'REC ' + size
     if status.problem:

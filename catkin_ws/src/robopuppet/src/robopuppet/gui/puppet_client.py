@@ -5,6 +5,7 @@ reads it once per frame.
 """
 import collections
 import math
+import reprlib
 import threading
 
 import rospkg
@@ -133,7 +134,8 @@ class PuppetClient:
         (in feel, arm_X then streams Baxter's pose as setpoints).
         """
         if opmode not in interface.OPMODES:
-            raise ValueError('opmode must be one of %s, got %r' % (interface.OPMODES, opmode))
+            raise ValueError('opmode must be one of %s, got %s' % (interface.OPMODES,
+                                                                   reprlib.repr(opmode)))
         if opmode in (interface.HOLD, interface.FEEL):
             for joint, values in enumerate(self.state.snapshot().joints):
                 if math.isfinite(values.angle_rad):

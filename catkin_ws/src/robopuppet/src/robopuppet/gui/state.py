@@ -6,6 +6,7 @@ or reads a clock.
 """
 import collections
 import math
+import reprlib
 import threading
 
 from robopuppet import baxter_description, interface, settings
@@ -98,7 +99,8 @@ class ArmState:
         so); limp ends the setpoint curves (NaN), so plots show setpoints only while holding.
         """
         if opmode not in interface.OPMODES:
-            raise ValueError('opmode must be one of %s, got %r' % (interface.OPMODES, opmode))
+            raise ValueError('opmode must be one of %s, got %s' % (interface.OPMODES,
+                                                                   reprlib.repr(opmode)))
         with self._lock:
             if opmode == self._opmode:
                 return

@@ -14,6 +14,7 @@ before home_angle; whole frames, <= 64 bytes per write), one write per step, at 
 apart (the USB packet rule of docs/serial.md).
 """
 import math
+import reprlib
 
 from robopuppet import settings
 from robopuppet.protocol import codec, device_commands
@@ -22,6 +23,7 @@ RETRY_S = 1.0  # after a failed write, load everything again this much later
 # What the device may hold when the host does not know (after a (re)connect): any value the
 # hardware takes. Used for the plausibility of reported voltages.
 VOLTAGE_BOUNDS_V = (settings.BY_NAME['voltage_min'].low, settings.BY_NAME['voltage_max'].high)
+FLOAT32_SLACK = 1e-6  # relative: a bound rounded to float32 (config_X's values) is within it
 
 
 class _Batch:
@@ -188,14 +190,43 @@ class DeviceSettings:
 
 
 def _problem(joints):
-    """Return why (joint, {name: value}) pairs cannot go to the device, or None if they can."""
+    """Return why (joint, {name: value}) pairs cannot go to the device, or None if they can.
+
+    Besides the wire format, the bounds of settings.SETTINGS (signs +-1, each minimum <= its
+    maximum, settings.ZERO_RANGES holding 0): config_X never publishes other values, but
+    anyone may publish on active_settings, and a sign_angle of 4 would make every later frame
+    implausible (dropped), a negative gain drive a motor away from its setpoint.
+    """
     numbers = sorted(joint for joint, _ in joints)
     if numbers != list(settings.JOINTS):
-        return 'joints %s, not one each of %s' % (numbers, list(settings.JOINTS))
+        return 'joints %s, not one each of %s' % (reprlib.repr(numbers), list(settings.JOINTS))
     for joint, values in joints:
         for name, value in values.items():
             try:
                 codec.encode(codec.JointConfig(joint, settings.CONFIG_ID[name], value))
             except codec.CodecError as error:
                 return 'joint %d %s: %s' % (joint, name, error)
+            why = _out_of_bounds(name, value)
+            if why:
+                return 'joint %d %s = %r: %s' % (joint, name, value, why)
+        for low, high in settings.RANGE_PAIRS:
+            if values[low] > values[high]:
+                return 'joint %d %s = %r is above %s = %r' % (joint, low, values[low], high,
+                                                              values[high])
+        for low, high in settings.ZERO_RANGES:
+            if not values[low] <= 0.0 <= values[high]:
+                return 'joint %d %s..%s = %r..%r does not hold 0' % (joint, low, high,
+                                                                     values[low], values[high])
     return None
+
+
+def _out_of_bounds(name, value):
+    """Return why a finite value is outside setting `name`'s bound, or '' (float32 rounding of
+    the bound, as config_X stores it, is within)."""
+    if name in settings.SIGNS:
+        return '' if value in (1.0, -1.0) else 'a sign must be +1 or -1'
+    setting = settings.BY_NAME[name]
+    slack = FLOAT32_SLACK * max(abs(setting.low), abs(setting.high))
+    if setting.low - slack <= value <= setting.high + slack:
+        return ''
+    return 'outside its bound [%g, %g] %s' % (setting.low, setting.high, setting.unit)

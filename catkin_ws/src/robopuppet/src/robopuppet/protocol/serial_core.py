@@ -8,6 +8,7 @@ out; the time comes from the injected clock. No rospy, no thread, not thread-saf
 one owner.
 """
 import collections
+import reprlib
 
 from robopuppet import interface
 from robopuppet.protocol import codec, device_commands, link_health, state_output, state_set
@@ -131,7 +132,7 @@ class SerialCore:
         '' (as stored) or 'feel', for log lines and diagnostics."""
         if profile != self._profile:
             self._log_info('active settings revision %d: profile %s' % (
-                revision, repr(profile) if profile else "'' (as stored)"))
+                revision, reprlib.repr(profile) if profile else "'' (as stored)"))
         self._profile = profile
         self._settings.on_stored(revision, joints)
 
@@ -151,8 +152,8 @@ class SerialCore:
         (step()); limp, hold or a reconnect end it, a repeat of feel changes nothing.
         """
         if mode not in interface.OPMODES:
-            self._log_warn('opmode must be one of %s, got %r; ignored'
-                           % ('/'.join(interface.OPMODES), mode))
+            self._log_warn('opmode must be one of %s, got %s; ignored'
+                           % ('/'.join(interface.OPMODES), reprlib.repr(mode)))
             return
         if mode == interface.LIMP:
             self._feel.stop()

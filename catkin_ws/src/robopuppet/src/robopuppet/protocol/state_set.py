@@ -7,9 +7,9 @@ so line noise decodes into frames that pass codec.Decoder. This layer adds what 
 
 - **Plausibility** of every field: the decoder already refuses a joint, status, gripper or
   button number out of range and any non-finite float; here an angle must lie in [-pi, pi]
-  (float32 rounding allowed), a motor voltage within the limits the device holds plus
-  VOLTAGE_MARGIN_V, and a gripper reading in [0, 1]. An implausible frame is dropped, counted
-  and described in `last_problem`.
+  (float32 rounding allowed), a motor voltage within the limits the device holds (widened to
+  0 V, what a limp device reports) plus VOLTAGE_MARGIN_V, and a gripper reading in [0, 1]. An
+  implausible frame is dropped, counted and described in `last_problem`.
 - **Structure.** The firmware sends a state set in one burst: joint states 0..6, grippers 0..3,
   then the buttons (SET_ORDER). A set is returned only when all twelve frames arrive in that
   order, each on a clean frame boundary (no byte dropped before it), within SET_SPAN_S of its
@@ -104,8 +104,10 @@ class Receiver:
             if not isinstance(value, float):
                 continue
             if kind is codec.JointState and name == 'voltage_v':
+                # 0 V too: a limp device reports 0 V whatever its limits (a range such as
+                # [1, 1] V is allowed), and refusing that would drop every set it sends.
                 low, high = self._voltage_limits(message.joint)
-                low, high = low - VOLTAGE_MARGIN_V, high + VOLTAGE_MARGIN_V
+                low, high = min(low, 0.0) - VOLTAGE_MARGIN_V, max(high, 0.0) + VOLTAGE_MARGIN_V
             else:
                 low, high = PLAUSIBLE_RANGES.get((kind, name), (-math.inf, math.inf))
             if not low <= value <= high:  # also refuses NaN

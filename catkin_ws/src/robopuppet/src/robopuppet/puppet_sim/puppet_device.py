@@ -9,6 +9,7 @@ Not thread-safe: the node calls it under one lock.
 """
 import collections
 import math
+import reprlib
 
 from robopuppet import interface, settings
 from robopuppet.protocol import codec
@@ -59,7 +60,7 @@ def hand_targets(names, positions):
     """
     if len(positions) != len(names) or any(n not in JOINT_INDEX for n in names):
         raise ValueError('need names from joint_0..joint_6 and one position each; got names %s '
-                         'with %d positions' % (list(names), len(positions)))
+                         'with %d positions' % (reprlib.repr(list(names)), len(positions)))
     return {JOINT_INDEX[n]: p for n, p in zip(names, positions)}
 
 

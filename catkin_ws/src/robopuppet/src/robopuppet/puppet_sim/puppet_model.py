@@ -22,6 +22,7 @@ own. The bytes on the wire are robopuppet.puppet_sim.puppet_wire's.
 """
 import collections
 import math
+import reprlib
 
 import numpy as np
 
@@ -119,8 +120,8 @@ class PuppetFirmware:
     def set_grippers(self, readings):
         """Set the four gripper readings, each clamped to 0-1. Raises ValueError otherwise."""
         if len(readings) != interface.NUM_GRIPPERS or not all(math.isfinite(r) for r in readings):
-            raise ValueError('need %d finite gripper readings, got %r'
-                             % (interface.NUM_GRIPPERS, list(readings)))
+            raise ValueError('need %d finite gripper readings, got %s'
+                             % (interface.NUM_GRIPPERS, reprlib.repr(list(readings))))
         self.grippers = [min(1.0, max(0.0, r)) for r in readings]
 
     # Host frames (the firmware's receive callbacks; fields are not range-checked) ------------
