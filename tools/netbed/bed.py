@@ -38,6 +38,12 @@ TOOLS_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 STATE_ROOT = '/run/netbed'
 LINK_IF = 'link0'          # each host's interface on the private link
 TUN_IF = 'fwd0'
+# The hosts' TCP congestion control, as two lab machines would run it: Linux's default is cubic,
+# which a namespace here cannot choose (this machine allows reno and bbr); reno acts as cubic on
+# the bed's thin loss-free streams. A namespace would otherwise inherit this machine's bbr, whose
+# ProbeRTT clamps each connection to 4 packets in flight for 200 ms + a round trip every 10 s
+# (docs/remote.md: 55-63 ms p99 of samples held in serial_R's socket at 100 ms one way).
+HOST_TCP_CC = 'reno'
 ROUTE_TABLE = '100'
 # host: (namespace suffix, address, the network's address on that host's link, its veth there)
 HOSTS = {
@@ -112,6 +118,7 @@ class Bed:
         netns.set_sysctls(net, {'net.ipv4.ip_forward': 1})
         for host, (_, address, gateway, veth) in HOSTS.items():
             ns = self.namespace(host)
+            netns.set_sysctls(ns, {'net.ipv4.tcp_congestion_control': HOST_TCP_CC})
             # Both ends are created inside their namespaces: nothing appears in the root one.
             netns.ip('link', 'add', 'name', LINK_IF, 'netns', ns, 'type', 'veth',
                      'peer', 'name', veth, 'netns', net)

@@ -43,11 +43,9 @@ written to the JointCommand's arrival at the command listener: arm_R's reception
 publishing, and the command's delivery; with --one-host, from the stamp). The listeners cost
 serial_R two more subscriber connections; n counts the moves traced through the bed.
 
-TCP: both hosts use --tcp-cc (default reno), set in their namespaces before anything starts;
---sysctl sets more (e.g. net.ipv4.tcp_slow_start_after_idle=0). The namespaces would otherwise
-inherit this machine's default, bbr, which a lab's two hosts are unlikely to run (Linux's
-default is cubic; this machine allows only reno and bbr in namespaces, and reno acts as cubic
-does on these thin, loss-free streams). With bbr, each connection's ProbeRTT (every 10 s
+TCP: the bed's hosts use reno (netbed.bed.HOST_TCP_CC, which says why: not this machine's
+bbr); --tcp-cc sets another on both before anything starts, --sysctl more (e.g.
+net.ipv4.tcp_slow_start_after_idle=0). With bbr, each connection's ProbeRTT (every 10 s
 without a lower round trip) clamps it to 4 packets in flight for about 200 ms plus a round trip:
 at 100 ms one way, samples waited in serial_R's socket ("to bed" p99 55-63 ms, against 2-7 ms
 with reno); docs/remote.md.
@@ -83,6 +81,7 @@ from bench_support import percentile
 HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / 'tests' / 'network'))
 from netbed_testing import HELPERS, RosBed  # noqa: E402
+from netbed.bed import HOST_TCP_CC  # noqa: E402
 from remote_trace import (HOPS, RT_PATH_PRIORITY, TRACE_KEEP_S, Listener,  # noqa: E402
                           Tracer, prioritise, schedule)
 
@@ -181,8 +180,9 @@ def main():
                         help='real-time priority for the processes on the path (module docstring)')
     parser.add_argument('--robot-args', default='', help='more robot.launch arguments')
     parser.add_argument('--operator-args', default='', help='more operator.launch arguments')
-    parser.add_argument('--tcp-cc', default='reno',
-                        help='TCP congestion control of both hosts (module docstring)')
+    parser.add_argument('--tcp-cc', default=HOST_TCP_CC,
+                        help="TCP congestion control of both hosts (default the bed's, %s; "
+                             "module docstring)" % HOST_TCP_CC)
     parser.add_argument('--sysctl', action='append', default=[],
                         help='KEY=VALUE set on both hosts before anything starts')
     options = parser.parse_args()
