@@ -9,7 +9,7 @@ from robopuppet.protocol import codec
 from robopuppet.puppet_sim.puppet_device import (NOISE_LIMIT_BYTES, PuppetDevice, check_params,
                                                  hand_targets)
 from robopuppet.puppet_sim.pty_port import Chunk
-from robopuppet.puppet_sim.puppet_model import POWER_ON_SETTINGS
+from robopuppet.puppet_sim.puppet_model import POWER_ON_SETTINGS, REST_POSE_RAD
 from robopuppet.puppet_sim.puppet_wire import device_frame
 
 ID = settings.CONFIG_ID
@@ -60,6 +60,22 @@ def test_hand_names_map_to_joints_and_bad_ones_are_refused():
                              (['joint_0', 'joint_1'], [0.1])):
         with pytest.raises(ValueError, match='joint_0..joint_6'):
             hand_targets(names, positions)
+
+
+def test_hand_targets_beyond_pi_or_infinite_are_refused_whole_and_the_joint_stays():
+    assert hand_targets(['joint_1', 'joint_2'], [math.pi, -math.pi]) == {1: math.pi, 2: -math.pi}
+    assert math.isnan(hand_targets(['joint_3'], [math.nan])[3])  # NaN still lets go
+    assert hand_targets(['joint_5'], [-3.142]) == {5: -3.142}  # the GUI slider's end
+    device = PuppetDevice()
+    device.advance(0.0, Line().write_some)
+    for positions in ([0.2, 1e308], [0.2, math.inf], [0.2, -math.inf], [0.2, -3.15]):
+        with pytest.raises(ValueError, match=r'\[-pi, pi\].*joint_4'):
+            device.set_hand(['joint_0', 'joint_4'], positions)
+    device.advance(2.0, Line().write_some)  # the hand holds the rest pose: nothing moved
+    arm = device.firmware.arm
+    assert list(arm.hand_goal_rad) == list(REST_POSE_RAD)
+    assert arm.angle_rad[4] == pytest.approx(REST_POSE_RAD[4], abs=0.05)
+    assert abs(arm.speed_radps[4]) < 0.1
 
 
 def test_operator_input_reaches_the_firmware_and_bad_input_changes_nothing():

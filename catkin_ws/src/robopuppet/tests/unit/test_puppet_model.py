@@ -56,6 +56,24 @@ def test_heartbeat_1hz_and_state_sets_at_the_state_rate_in_order():
     assert [m.joint for m in sets[1][:7]] == list(settings.JOINTS)
 
 
+def test_a_late_advance_sends_every_state_set_due_meanwhile_each_of_its_own_time():
+    # The device's clock does not wait for the simulator's process: called late (a loaded
+    # host), the firmware still sends a set per state period, as the 2020 firmware does.
+    firmware = loaded()
+    firmware.advance(0.0)
+    run(firmware, 0.0, 1.0)
+    firmware.set_hand({3: REST_POSE_RAD[3] - 1.0})  # joint 3 (hall) moves: sets differ
+    out = firmware.advance(1.35)  # a 0.35 s stall: the sets of 1.1, 1.2 and 1.3 s
+    sets = [m for m in states(out) if m.joint == 3]
+    assert len(sets) == 3 and len(set(m.angle_rad for m in sets)) == 3
+    assert sum(isinstance(m, codec.Heartbeat) for m in out) == 0
+    out = firmware.advance(3.0)  # a 1.65 s stall: only CATCH_UP_S (0.5 s) is caught up
+    assert len(states(out)) == 6 * settings.NUM_JOINTS  # the sets of 2.5 .. 3.0 s
+    assert sum(isinstance(m, codec.Heartbeat) for m in out) == 1  # the one at 3 s
+    _, out = run(firmware, 3.0, 1.0)
+    assert len(states(out)) == 10 * settings.NUM_JOINTS  # and on at the state rate
+
+
 def test_rest_pose_quad_joints_uncalibrated_until_index_then_mechanical_angle():
     firmware = loaded()
     t, out = run(firmware, 0.0, 0.5)

@@ -23,6 +23,9 @@ JOINT_INDEX = {name: j for j, name in enumerate(settings.JOINT_NAMES)}
 # states late.
 PENDING_LIMIT_BYTES = 1024
 NOISE_LIMIT_BYTES = 1 << 20  # line noise waiting to be written; more is refused
+# A hand target beyond this is refused: pi, plus the GUI's 1 mrad slider step (its ends round
+# outward to +-3.142 rad).
+HAND_LIMIT_RAD = math.pi + 1e-3
 MAX_WAIT_S = 0.1             # the pty is looked at least this often, whatever is due
 CONFIG_PERIOD_S = 0.1        # the device's settings are published at most this often
 # device_config's layout: (label, size, stride) of its rows (joints) and columns (settings).
@@ -55,12 +58,21 @@ def check_params(hall_disconnected, usb_packet_size):
 def hand_targets(names, positions):
     """Return {joint: mechanical angle rad} of the hand topic's joint names and positions.
 
+    NaN lets go of a joint; any other position must lie in [-pi, pi] (a human hand turns a
+    joint no further; a target such as 1e308 rad would spin the joint for good).
+
     Raises:
-        ValueError: a name is not joint_0..joint_6, or the counts differ.
+        ValueError: a name is not joint_0..joint_6, the counts differ, or a position is
+            infinite or outside [-pi, pi]; the whole message is refused.
     """
     if len(positions) != len(names) or any(n not in JOINT_INDEX for n in names):
         raise ValueError('need names from joint_0..joint_6 and one position each; got names %s '
                          'with %d positions' % (reprlib.repr(list(names)), len(positions)))
+    wild = [(n, p) for n, p in zip(names, positions)
+            if not (math.isnan(p) or abs(p) <= HAND_LIMIT_RAD)]
+    if wild:
+        raise ValueError('hand targets must lie in [-pi, pi] rad (NaN lets go), got %s'
+                         % reprlib.repr(wild))
     return {JOINT_INDEX[n]: p for n, p in zip(names, positions)}
 
 

@@ -39,6 +39,8 @@ QUAD_JOINTS = (0, 2, 4, 6)
 HALL_RAD_PER_COUNT = 2.0 * math.pi / 2 ** 14   # AS5048B, 14 bits
 QUAD_RAD_PER_COUNT = 2.0 * math.pi / 2 ** 13   # 8192 counts per revolution
 INDEX_HALF_WIDTH_RAD = 0.005  # the index pulse is about 0.6 degrees wide
+CATCH_UP_S = 0.5  # a late advance() runs at most this much of the missed time
+TIE_S = 1e-9  # times this close are one time (sums of periods drift from the multiples)
 CONTROL_LOG_TICKS = 500  # ControlTicks kept for take_control_ticks() (10 s at 50 Hz)
 
 # The firmware's settings at power-on, before the host loads any (AngleFilters, Controllers,
@@ -170,26 +172,39 @@ class PuppetFirmware:
         """Run the control loop up to now_s; return the messages the device sends by then.
 
         The first call is power-on: control ticks start one period later, state sets one
-        state period later and heartbeats one second later.
+        state period later and heartbeats one second later. Everything due runs in time order
+        (a state set reports the arm at its own time), as on the device's own clock: a late
+        call (the simulator's process not scheduled for a while) sends every state set and
+        heartbeat the firmware would have sent meanwhile, so their rate does not depend on
+        the host machine's load. A stall longer than CATCH_UP_S is not caught up.
         """
         if self._time_s is None:
             self._next_control_s = now_s + 1.0 / CONTROL_RATE_HZ
             self._next_state_s = now_s + self.state_period_s
             self._next_heartbeat_s = now_s + 1.0 / HEARTBEAT_RATE_HZ
         # A host that stalls for long does not make the arm catch up in one burst.
-        self._next_control_s = max(self._next_control_s, now_s - 0.5)
-        while self._next_control_s <= now_s:
-            self._control_tick(self._next_control_s, 1.0 / CONTROL_RATE_HZ)
-            self._next_control_s += 1.0 / CONTROL_RATE_HZ
-        self._time_s = now_s
+        self._next_control_s = _not_before(self._next_control_s, 1.0 / CONTROL_RATE_HZ,
+                                           now_s - CATCH_UP_S)
+        self._next_state_s = _not_before(self._next_state_s, self.state_period_s,
+                                         now_s - CATCH_UP_S)
+        self._next_heartbeat_s = _not_before(self._next_heartbeat_s, 1.0 / HEARTBEAT_RATE_HZ,
+                                             now_s - CATCH_UP_S)
         out = []
-        if self._next_heartbeat_s <= now_s:
-            out.append(codec.Heartbeat())
-            self._next_heartbeat_s = _next_due(self._next_heartbeat_s, 1.0 / HEARTBEAT_RATE_HZ,
-                                               now_s)
-        if self._next_state_s <= now_s:
-            out.extend(self.state_messages())
-            self._next_state_s = _next_due(self._next_state_s, self.state_period_s, now_s)
+        while True:
+            due_s = min(self._next_control_s, self._next_heartbeat_s, self._next_state_s)
+            if due_s > now_s + TIE_S:
+                break
+            tie_s = due_s + TIE_S  # at one time: the tick first (what is sent reflects it)
+            if self._next_control_s <= tie_s:
+                self._control_tick(due_s, 1.0 / CONTROL_RATE_HZ)
+                self._next_control_s += 1.0 / CONTROL_RATE_HZ
+            elif self._next_heartbeat_s <= tie_s:
+                out.append(codec.Heartbeat())
+                self._next_heartbeat_s += 1.0 / HEARTBEAT_RATE_HZ
+            else:
+                out.extend(self.state_messages())
+                self._next_state_s += self.state_period_s
+        self._time_s = now_s
         return out
 
     def next_due_s(self):
@@ -292,7 +307,8 @@ def _passes_index(before_rad, after_rad):
     return abs(wrap(after_rad)) <= INDEX_HALF_WIDTH_RAD
 
 
-def _next_due(due_s, period_s, now_s):
-    """Return the next due time after due_s; skip missed periods instead of bursting."""
-    due_s += period_s
-    return due_s if due_s > now_s else now_s + period_s
+def _not_before(due_s, period_s, earliest_s):
+    """Return due_s moved on by whole periods to at or after earliest_s (missed ones skipped)."""
+    if due_s >= earliest_s:
+        return due_s
+    return due_s + math.ceil((earliest_s - due_s) / period_s) * period_s

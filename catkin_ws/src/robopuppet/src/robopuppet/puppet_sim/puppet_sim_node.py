@@ -24,7 +24,8 @@ class PuppetSimNode:
 
     Subscribes (in <sim> = /puppet_sim/arm_<side>):
         hand (sensor_msgs/JointState): joint_0..joint_6 mechanical angles rad where the
-            operator's hand moves the puppet; a NaN position lets go of that joint. Until the
+            operator's hand moves the puppet; a NaN position lets go of that joint; a message
+            with a position infinite or outside [-pi, pi] is refused (warning). Until the
             first message the hand holds the rest pose (see docs/serial.md).
         button (std_msgs/UInt8): the user button held down, 1-4, or 0 for none.
         grippers (std_msgs/Float32MultiArray): four readings 0-1; reading 3 is the end-piece
@@ -41,7 +42,8 @@ class PuppetSimNode:
         <sim>/control (sensor_msgs/JointState): every 50 Hz control tick in hold; names
             joint_0..joint_6, position = setpoints rad, velocity = reported angles rad,
             effort = PID voltages V.
-        <sim>/hand_torque (sensor_msgs/JointState): with every state set (~state_rate);
+        <sim>/hand_torque (sensor_msgs/JointState): with every state set (~state_rate; one
+            for the sets a late step catches up);
             names joint_0..joint_6, effort = the torque N m the operator's hand exerts on each
             joint (0 where it lets go): in feel mode, what the nurse feels.
     Parameters:
