@@ -256,3 +256,35 @@ def test_teleop_actions_pass_through_in_order():
     actions = [a for a in rig.press(interface.BUTTON_OPMODE)
                if not isinstance(a, controller.Report)]
     assert actions == [opmode.SetSetpoints(POSE['right']), opmode.SetOpmode(interface.HOLD)]
+
+
+def test_garbage_joint_states_of_another_publisher_are_bad_stamps_and_the_real_ones_are_used():
+    """topic_garbage: plausible joint_states stamped long ago (1..1e9 s) from another publisher
+    between the real ones were logged as "out of order: stamped 1.7e9 s before one already
+    used". They are refused as bad stamps (the operator's), and every real sample is used."""
+    rig = ready()
+    for stamp_s in (1.0, 5.0, 100.0, rig.operator_s() - 601.0):   # the robot clock: 1000 s
+        rig.t += PERIOD_S
+        taken, problem = rig.core.on_joint_states(rig.t, settings.JOINT_NAMES, POSE['right'],
+                                                  stamp_s, rig.now_s())
+        assert not taken and 'stamp so far' in problem and 'not a time a sample was' in problem
+        rig.step()   # a real sample: used
+        assert rig.core.link.since_usable_s(rig.now_s()) == 0.0
+    assert dict(rig.core.link.refused) == {'stamp': 4}
+
+
+def test_a_used_stamp_in_the_future_on_a_refined_estimate_is_forgotten_and_said():
+    rig, names = Rig(echo=False), settings.JOINT_NAMES
+    core = rig.core
+    seq, sent_s = core.ping(rig.t, rig.now_s())   # a slow first echo: the offset +- 0.25 s
+    rig.t += 0.5
+    assert core.on_echo(rig.t, rig.now_s(), seq, sent_s, sent_s + 0.25 + OPERATOR_OFFSET_S) == ''
+    taken, _ = core.on_joint_states(rig.t, names, POSE['right'], rig.operator_s(-0.24),
+                                    rig.now_s())   # garbage stamped 0.24 s ahead: let through
+    assert taken
+    seq, sent_s = core.ping(rig.t, rig.now_s())   # a fast one: the offset +- 2 ms
+    rig.t += 0.004
+    assert core.on_echo(rig.t, rig.now_s(), seq, sent_s, sent_s + 0.002 + OPERATOR_OFFSET_S) == ''
+    taken, problem = core.on_joint_states(rig.t, names, POSE['right'], rig.operator_s(0.01),
+                                          rig.now_s())
+    assert taken and 'lies in the future' in problem and 'forgotten (1 so far)' in problem

@@ -129,17 +129,86 @@ def test_the_clock_is_trusted_only_after_an_echo_and_while_echoes_come_and_agree
     assert clock.silence_s(last_echo_s + 1.0) == pytest.approx(1.0)
 
 
-def test_a_step_of_the_operator_clock_restarts_the_estimate_at_once():
+def test_a_step_of_the_operator_clock_restarts_the_estimate_once_echoes_confirm_it():
     clock = LinkClock()
     net = Network(clock)
     for _ in range(10):
         net.exchange(0.002, 0.002)
     net.offset_s += 1.0   # NTP steps the operator clock
-    net.exchange(0.01, 0.01)
-    assert clock.clock_steps == 1
+    for k in range(link_clock.STEP_CONFIRM):
+        seq, sent_s = clock.ping(net.now_s)
+        why = clock.on_echo(sent_s + 0.02, seq, sent_s, sent_s + 0.01 + net.offset_s)
+        net.now_s += PING_PERIOD_S
+        if k < link_clock.STEP_CONFIRM - 1:
+            assert 'set aside' in why and clock.clock_steps == 0
+            assert clock.offset() == pytest.approx((OFFSET_S, 0.002))
+        if k == 1:   # two in a row: in doubt, no age is trusted
+            assert 'may have stepped' in clock.clock_problem(net.now_s)
+    assert why == '' and clock.clock_steps == 1 and clock.clock_problem(net.now_s) == ''
     assert clock.offset() == pytest.approx((OFFSET_S + 1.0, 0.01))
     net.exchange(0.02, 0.02)
     assert clock.clock_steps == 1
+
+
+@pytest.mark.parametrize('forged_s', [1.7e9, 2 ** 32 - 1.0, 1.0, -5.0 + OFFSET_S])
+def test_one_echo_with_a_forged_time_does_not_move_the_estimate(forged_s):
+    """An echo that answers a ping we sent but with a forged `echoed` time (anyone may publish
+    on link_echo) is set aside: the estimate stays, a sample stamped as its offset would allow
+    is refused as future, and the next real echo is taken."""
+    clock = LinkClock()
+    net = Network(clock)
+    for _ in range(10):
+        net.exchange(0.002, 0.002)
+    seq, sent_s = clock.ping(net.now_s)
+    assert 'set aside (1 so far)' in clock.on_echo(sent_s + 0.001, seq, sent_s, forged_s)
+    net.now_s += PING_PERIOD_S
+    assert clock.offset() == pytest.approx((OFFSET_S, 0.002))
+    assert clock.clock_problem(net.now_s) == ''
+    if forged_s > 1e9:
+        with pytest.raises(Refused) as refused:
+            clock.age(net.now_s, net.now_s + forged_s - sent_s)
+        assert refused.value.kind == 'future'
+    net.exchange(0.002, 0.002)
+    assert (clock.clock_steps, clock.outliers) == (0, 1)
+
+
+def test_outliers_that_disagree_among_themselves_never_make_a_step():
+    clock = LinkClock()
+    net = Network(clock)
+    for _ in range(5):
+        net.exchange(0.002, 0.002)
+    for forged_s in (1.7e9, 3.0e9, 1.0, 2.5e9, 4.0e9):
+        seq, sent_s = clock.ping(net.now_s)
+        assert 'set aside' in clock.on_echo(sent_s + 0.004, seq, sent_s, forged_s)
+        net.now_s += PING_PERIOD_S
+    assert clock.clock_steps == 0 and clock.offset() == pytest.approx((OFFSET_S, 0.002))
+
+
+def test_an_echo_answered_after_the_expiry_is_lost_and_does_not_keep_the_clock_trusted():
+    clock, now_s = LinkClock(), START_S
+    seq, sent_s = clock.ping(now_s)
+    assert clock.on_echo(now_s + 0.004, seq, sent_s, sent_s + 0.002 + OFFSET_S) == ''
+    late = [clock.ping(now_s + k * PING_PERIOD_S) for k in range(1, 41)]   # 4 s unanswered
+    end_s = now_s + 4.0 + 0.01
+    for seq, sent_s in late[:5]:   # answered 3.5 s and more late: no news of the clock now
+        assert 'longer than an estimate is trusted' in clock.on_echo(end_s, seq, sent_s,
+                                                                     sent_s + OFFSET_S)
+    assert 'no echo from the operator host' in clock.clock_problem(end_s)
+    assert clock.offset() == pytest.approx((OFFSET_S - 0.0, 0.002))
+    seq, sent_s = late[-1]   # 0.01 s round trip: taken
+    assert clock.on_echo(end_s, seq, sent_s, sent_s + 0.005 + OFFSET_S) == ''
+    assert clock.loss(end_s + 1.0) == pytest.approx(39 / 41)   # the late 5 count as lost
+
+
+def test_a_stamp_long_before_now_is_garbage_not_an_age():
+    clock = LinkClock()
+    net = Network(clock)
+    net.exchange(0.002, 0.002)
+    assert clock.age(net.now_s, net.now_s - 500.0 + OFFSET_S) == pytest.approx(500.002)
+    for stamp_s in (1.0, net.now_s - 700.0 + OFFSET_S):
+        with pytest.raises(Refused, match='not a time a sample was taken') as refused:
+            clock.age(net.now_s, stamp_s)
+        assert refused.value.kind == 'stamp'
 
 
 def test_the_age_of_a_sample_is_on_the_robot_clock_and_bad_stamps_are_refused():

@@ -7,7 +7,7 @@ import pytest
 from diagnostic_msgs.msg import DiagnosticStatus
 
 from robopuppet import interface
-from robopuppet.arm import link_watch, timing
+from robopuppet.arm import link_clock, link_watch, timing
 from robopuppet.arm.link_clock import PING_PERIOD_S, Refused
 from robopuppet.arm.link_watch import ERROR, NETWORK, OK, OPERATOR, ROBOT, WARN, LinkWatch
 from robopuppet_msgs.msg import LinkState
@@ -110,7 +110,7 @@ def test_after_a_step_of_the_operator_clock_samples_compare_afresh():
     global OFFSET_S
     saved, OFFSET_S = OFFSET_S, OFFSET_S - 5.0   # the operator clock steps back 5 s
     try:
-        link.run(0.1)   # the echo shows it
+        link.run(0.1 * link_clock.STEP_CONFIRM)   # the echoes show it, again and again
         assert link.watch.clock.clock_steps == 1
         assert link.sample(0.01) == pytest.approx(0.01)   # no longer "out of order"
     finally:
@@ -229,3 +229,34 @@ def test_a_round_trip_over_100_ms_warns_and_an_uncertain_clock_makes_samples_old
     r = slow.report()
     assert (r.level, r.fault, r.clock_known) == (WARN, NETWORK, True)
     assert 'round trip 0.200 s' in r.detail
+
+
+def test_garbage_stamped_long_ago_is_a_bad_stamp_not_out_of_order_and_real_ones_go_on():
+    """topic_garbage: samples of another publisher stamped 1..1e9 s (long before now) were
+    refused "out of order: stamped 1.7e9 s before one already used", which read as if the real
+    samples were refused. They are bad stamps (the operator's), and the real ones are used."""
+    link = Link()
+    link.run(0.5, sample_age_s=0.01)
+    for garbage in (1.0, 40.0, 80.0):   # the robot clock is 700 s here, 1.8e9 s in the run
+        with pytest.raises(Refused, match='not a time a sample was taken') as refused:
+            link.watch.take(link.now_s, garbage)
+        assert refused.value.kind == 'stamp'
+        link.run(PING_PERIOD_S)
+        assert link.sample(0.01) == pytest.approx(0.01)
+    assert dict(link.watch.refused) == {'stamp': 3}
+
+
+def test_a_used_stamp_the_estimate_no_longer_allows_does_not_make_real_samples_out_of_order():
+    """A garbage sample stamped 0.24 s ahead passes while the offset is known to 0.25 s only (a
+    slow first echo); once fast echoes pin the offset down, it is in the future: forgotten, and
+    the real samples after it are used, not refused as out of order."""
+    link = Link()
+    seq, sent_s = link.watch.clock.ping(link.now_s)
+    link.watch.clock.on_echo(sent_s + 0.5, seq, sent_s, sent_s + 0.25 + OFFSET_S)
+    link.now_s += 0.5
+    ahead_s = link.now_s + 0.24 + OFFSET_S
+    assert link.watch.take(link.now_s, ahead_s) == pytest.approx(0.01)   # within the error
+    link.run(0.1)   # a 4 ms round trip: the offset is known to 2 ms
+    assert link.sample(0.01) == pytest.approx(0.01)
+    assert link.watch.reanchored == 1 and not link.watch.refused
+    assert dict(link.report().values)['reanchored'] == '1'

@@ -94,7 +94,8 @@ class ArmController:
         A message without joint_0..joint_6 is refused (not taken) and counted; so is one that
         link_watch does not let through (of unknown age: the stream is stale, which teleop takes
         as a silent puppet; too old: dropped, silent only when no usable one comes for the state
-        timeout; out of order).
+        timeout; out of order). A taken one's warning also says when the newest stamp used
+        before was forgotten (link_watch: in the future on the refined clock estimate).
         """
         try:
             angles = joint_angles(names, positions)
@@ -102,6 +103,7 @@ class ArmController:
             self.refused_states += 1
             return False, 'puppet joint_states refused (%d so far): %s' % (
                 self.refused_states, error)
+        reanchored = self.link.reanchored
         try:
             self.link.take(now_s, stamp_s)
         except Refused as refusal:
@@ -114,8 +116,13 @@ class ArmController:
                 self.link.refused[refusal.kind], refusal.kind, refusal)
         self.teleop.on_joint_states(t, list(self._statuses), angles)
         bad = non_finite_joints(angles)
-        return True, ('puppet joint_states with non-finite %s: each such joint keeps its last '
-                      'valid angle' % ', '.join(bad)) if bad else ''
+        notes = ['puppet joint_states with non-finite %s: each such joint keeps its last valid '
+                 'angle' % ', '.join(bad)] if bad else []
+        if self.link.reanchored != reanchored:
+            notes.append('the newest puppet sample used before lies in the future on the '
+                         "operator clock's estimate now: forgotten (%d so far), later ones "
+                         'compare with this one' % self.link.reanchored)
+        return True, '; '.join(notes)
 
     def on_robot_joints(self, t, names, positions, velocities, age_s):
         """Take Baxter's joint states, received at t and measured age_s (s) earlier (an age

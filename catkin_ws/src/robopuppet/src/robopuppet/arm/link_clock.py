@@ -15,8 +15,16 @@ age() returns that upper bound, so a slow link makes samples look older, never y
 
 The estimate is trusted (clock_problem() returns '') only while an echo came within
 CLOCK_EXPIRY_S: an estimate no ping checks any more could hide a step of the operator clock, so
-it expires rather than being trusted forever. A new echo whose offset
-interval does not overlap the best one's means that a clock stepped: the old echoes are dropped.
+it expires rather than being trusted forever. An echo whose offset interval does not overlap the
+best one's is set aside (counted in `outliers`), not taken: one echo with a forged `echoed` time
+must not move the estimate (anyone may publish on link_echo). STEP_CONFIRM such echoes in a row
+that agree with each other mean that a clock stepped: they replace the old echoes. From the
+second of them until then the offset is in doubt (clock_problem says so: ages are unknown).
+An echo answered after more than CLOCK_EXPIRY_S tells nothing current about the clock: it is
+ignored (and its ping counts as lost, as every echo after ECHO_TIMEOUT_S does).
+
+A stamp more than PLAUSIBLE_AGE_S old on the estimate is no time a puppet sample was taken
+(garbage: 0 < stamp << now): refused as a bad stamp, not aged.
 
 All times are robot-clock seconds (floats) passed in; no rospy, no clock read here.
 """
@@ -34,6 +42,8 @@ CLOCK_STEP_TOLERANCE_S = 0.005  # drift and rounding allowed between consistent 
 FUTURE_TOLERANCE_S = 0.01    # a sample may look this much younger than 0 beyond the error bound
 SENT_TOLERANCE_S = 1e-6      # ROS time's nanoseconds round-trip a float to within this
 SEQ_MODULO = 2 ** 32         # LinkPing.seq is a uint32; numbering starts at 1 and skips 0
+STEP_CONFIRM = 3             # echoes in a row that show a clock step before it is believed
+PLAUSIBLE_AGE_S = 600.0      # an older stamp is garbage, not a sample the network held back
 
 Echo = collections.namedtuple('Echo', 'arrived_s rtt_s offset_s')
 
@@ -52,17 +62,19 @@ class LinkClock:
     Attributes:
         pings: pings sent so far.
         echoes: echoes taken so far.
-        ignored_echoes: echoes ignored (unknown, duplicate or garbage).
+        ignored_echoes: echoes ignored (unknown, duplicate, garbage or after the timeout).
+        outliers: echoes set aside: they disagreed with the estimate (see STEP_CONFIRM).
         clock_steps: times an echo showed that a clock stepped (the estimate restarted).
         rtt_s: round trip of the newest taken echo (s), None before the first.
     """
 
     def __init__(self):
-        self.pings = self.echoes = self.ignored_echoes = self.clock_steps = 0
+        self.pings = self.echoes = self.ignored_echoes = self.clock_steps = self.outliers = 0
         self.rtt_s = None
         self._seq = 0
         self._sent = collections.OrderedDict()   # seq -> [sent_s, arrived_s or None]
         self._window = collections.deque(maxlen=CLOCK_WINDOW)
+        self._doubt = []   # the echoes in a row that disagree with the estimate
         self._first_ping_s = self._last_ping_s = self._last_echo_s = None
 
     # ---- pings and echoes -----------------------------------------------------------------
@@ -88,7 +100,10 @@ class LinkClock:
         """Take an echo that arrived at now_s; return '' or why it was ignored (counted).
 
         Ignored: a seq not sent (or sent too long ago), one answered already, a `sent` that is
-        not the ping's, an `echoed` that is not a positive finite time, an arrival before `sent`.
+        not the ping's, an `echoed` that is not a positive finite time, an arrival before `sent`,
+        an arrival more than CLOCK_EXPIRY_S after `sent` (the ping counts as lost). Set aside
+        (counted): one that disagrees with the estimate, until STEP_CONFIRM in a row show that a
+        clock stepped.
         """
         why = self._check_echo(now_s, seq, sent_s, echoed_s)
         if why:
@@ -97,13 +112,29 @@ class LinkClock:
         record = self._sent[seq]
         record[1] = now_s
         rtt_s = now_s - record[0]
+        if rtt_s > CLOCK_EXPIRY_S:
+            self.ignored_echoes += 1
+            return ('link echo ignored (%d so far): ping %d answered after %.3f s, longer than an '
+                    'estimate is trusted (%g s): counted lost, not used for the clock' % (
+                        self.ignored_echoes, seq, rtt_s, CLOCK_EXPIRY_S))
         echo = Echo(now_s, rtt_s, echoed_s - (record[0] + now_s) / 2.0)
         best = self.best()
-        if best is not None and abs(echo.offset_s - best.offset_s) > (
-                (echo.rtt_s + best.rtt_s) / 2.0 + CLOCK_STEP_TOLERANCE_S):
-            self.clock_steps += 1   # the intervals miss each other: a clock stepped
+        if best is not None and not _agree(echo, best):
+            if self._doubt and not _agree(echo, min(self._doubt, key=lambda e: e.rtt_s)):
+                self._doubt = []   # they disagree among themselves too: garbage, not a step
+            self._doubt.append(echo)
+            if len(self._doubt) < STEP_CONFIRM:
+                self.outliers += 1
+                return ('link echo set aside (%d so far): offset %.6f s +- %.6f s disagrees with '
+                        'the estimate %.6f s +- %.6f s (%d such in a row make a clock step)' % (
+                            self.outliers, echo.offset_s, rtt_s / 2.0, best.offset_s,
+                            best.rtt_s / 2.0, STEP_CONFIRM))
+            self.clock_steps += 1   # the intervals miss each other, again and again: a step
             self._window.clear()
-        self._window.append(echo)
+            self._window.extend(self._doubt)
+        else:
+            self._window.append(echo)
+        self._doubt = []
         self.echoes += 1
         self.rtt_s = rtt_s
         self._last_echo_s = now_s
@@ -148,6 +179,9 @@ class LinkClock:
         if self._last_echo_s is None:
             return ("waiting for the operator host's echo (%s): the age of puppet samples is "
                     'unknown' % LINK_ECHO)
+        if len(self._doubt) > 1:
+            return ('%d echoes in a row disagree with the estimate of the operator clock: a clock '
+                    'may have stepped, the age of puppet samples is unknown' % len(self._doubt))
         silence_s = self.silence_s(now_s)
         if silence_s > CLOCK_EXPIRY_S:
             return ('no echo from the operator host for %.1f s: its clock is no longer trusted, '
@@ -159,8 +193,9 @@ class LinkClock:
         counting the offset's error bound: the sample is at most this old.
 
         Raises:
-            Refused: kind 'stamp' (not a positive finite time), 'clock' (the offset is not
-                trusted, see clock_problem) or 'future' (younger than the error bound allows).
+            Refused: kind 'stamp' (not a positive finite time, or older than PLAUSIBLE_AGE_S),
+                'clock' (the offset is not trusted, see clock_problem) or 'future' (younger than
+                the error bound allows).
         """
         if not (isinstance(stamp_s, (int, float)) and math.isfinite(stamp_s) and stamp_s > 0.0):
             raise Refused('stamp', 'its stamp %r is not a time' % (stamp_s,))
@@ -172,6 +207,9 @@ class LinkClock:
         if age_s < -(error_s + FUTURE_TOLERANCE_S):
             raise Refused('future', 'stamped %.3f s ahead of the robot clock (offset %.3f s '
                                     '+- %.3f s)' % (-age_s, offset_s, error_s))
+        if age_s > PLAUSIBLE_AGE_S:
+            raise Refused('stamp', 'its stamp %.3f is %.0f s before the robot clock (offset %.3f '
+                                   's): not a time a sample was taken' % (stamp_s, age_s, offset_s))
         return max(age_s + error_s, 0.0)
 
     def loss(self, now_s):
@@ -184,3 +222,9 @@ class LinkClock:
         lost = sum(1 for sent_s, arrived_s in decided
                    if arrived_s is None or arrived_s - sent_s > ECHO_TIMEOUT_S)
         return lost / len(decided)
+
+
+def _agree(echo, best):
+    """Return whether two echoes' offset intervals overlap (within CLOCK_STEP_TOLERANCE_S)."""
+    return abs(echo.offset_s - best.offset_s) <= (
+        (echo.rtt_s + best.rtt_s) / 2.0 + CLOCK_STEP_TOLERANCE_S)

@@ -5,7 +5,11 @@ seconds are arguments, the clock itself is robopuppet.arm.link_clock.
 A puppet sample (joint_states, stamped by serial_X on the operator clock) is used only when its
 age is known (the operator clock is trusted), it is not stamped in the future, it is newer than
 every sample used before (out of order: refused), and it is at most the bound old on arrival
-(robopuppet.arm.timing.sample_age_bound). Refusals are counted by kind. One of unknown age
+(robopuppet.arm.timing.sample_age_bound). "Newer than" compares with a stamp the current
+estimate still allows: a used stamp that now lies in the future (a garbage sample let through
+under an estimate since refined, or a clock step) is forgotten (counted in `reanchored`), so that
+no single sample can make every later one "out of order" for longer than the offset's error
+bound. Refusals are counted by kind. One of unknown age
 (STALE_KINDS) makes the stream stale at once: teleop takes it as a silent puppet. One too old
 (LATE) is dropped: never used, counted and reported (a warning for LOSS_WINDOW_S); the stream is
 stale only when no usable sample comes for the state timeout, and teleop then names the newest
@@ -56,6 +60,7 @@ class LinkWatch:
     Attributes:
         clock: the LinkClock (pings, echoes, offset, loss).
         refused: {kind: samples refused} (kinds: REFUSAL_FAULT's keys).
+        reanchored: times the newest used stamp was forgotten, in the future on the estimate.
         sample_age_s: age on arrival of the newest sample whose age is known (s), or None.
     """
 
@@ -63,6 +68,7 @@ class LinkWatch:
         self.clock = LinkClock()
         self.bound, self.silent_after_s = bound, silent_after_s
         self.refused = collections.Counter()
+        self.reanchored = 0
         self.sample_age_s = None
         self.diag_name = 'arm_%s: %s' % (side, DIAG_NETWORK)
         self.hardware_id = puppet_ns(side)
@@ -82,6 +88,7 @@ class LinkWatch:
         try:
             age_s = self.clock.age(now_s, stamp_s)
             self.sample_age_s = age_s
+            self._check_used(now_s)
             if self._used_stamp_s is not None and stamp_s <= self._used_stamp_s:
                 raise Refused('order', 'out of order: stamped %.3f s before one already used'
                               % (self._used_stamp_s - stamp_s))
@@ -97,6 +104,16 @@ class LinkWatch:
             raise
         self._used_stamp_s, self._used_s, self._refusal = stamp_s, now_s, None
         return age_s
+
+    def _check_used(self, now_s):
+        if self._used_stamp_s is None:
+            return
+        try:
+            self.clock.age(now_s, self._used_stamp_s)
+        except Refused as refusal:
+            if refusal.kind == 'future':   # the estimate no longer allows it: forget it
+                self._used_stamp_s = None
+                self.reanchored += 1
 
     def late_dropped(self, now_s):
         """Return [(arrival s, age s)] of the late samples dropped in the last LOSS_WINDOW_S."""
@@ -189,7 +206,8 @@ class LinkWatch:
             ('loss', '-1' if loss is None else '%.3f' % loss),
             ('follows_within_s', '%.2f' % self.bound.late_s),
             ('pings', clock.pings), ('echoes', clock.echoes),
-            ('ignored_echoes', clock.ignored_echoes), ('clock_steps', clock.clock_steps)]
+            ('ignored_echoes', clock.ignored_echoes), ('outlier_echoes', clock.outliers),
+            ('clock_steps', clock.clock_steps), ('reanchored', self.reanchored)]
         values += [('refused_' + kind, self.refused[kind]) for kind in sorted(REFUSAL_FAULT)]
         return LinkReport(rtt_s, offset_s, known, age_s, self.bound.bound_s,
                           -1.0 if loss is None else loss, level, fault, detail, self.diag_name,
