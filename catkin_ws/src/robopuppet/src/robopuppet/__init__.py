@@ -10,7 +10,8 @@ Data flows from the puppet to Baxter:
 |---------------|-------------------------------------------------------------|-----------------|
 | (top level)   | shared tables: interface (names, enumerations, timing),     | tables only     |
 |               | settings (the joint settings), baxter_description (URDF),   |                 |
-|               | periodic (guarded loops), params (parameter checks)         |                 |
+|               | periodic (guarded loops), params (parameter checks),        |                 |
+|               | float32 (the settings' wire rounding and text)              |                 |
 | config/       | config_X: ini store, settings keeper, atomic file, the node | tables          |
 | baxter_sim/   | baxter_sim: the kinematic Baxter stand-in and its node      | tables, world   |
 | protocol/     | serial_X: frames, link, state sets, serial core, settings   | tables          |

@@ -3,10 +3,13 @@
 A setting's index in SETTINGS is its config id on the wire (serial frame 0x30) and its field
 order in the GetConfig response. Its [low, high] is what the puppet's hardware can take (both
 inclusive), and bound_source says where that bound comes from: a value outside it is refused by
-the config node and the GUI and never reaches the puppet.
+the config node, the GUI and the serial node (implausible(): the one check) and never reaches
+the puppet.
 """
 import collections
 import math
+
+from robopuppet.float32 import format_value, to_float32
 
 NUM_JOINTS = 7
 JOINTS = tuple(range(NUM_JOINTS))
@@ -59,6 +62,24 @@ RANGE_PAIRS = (('angle_min', 'angle_max'),
 # (out of [-pi, pi], and serial_X drops every set). A voltage range may exclude 0.
 ZERO_RANGES = (('velocity_min', 'velocity_max'),)
 SIGNS = ('sign_angle', 'sign_motor')
+
+
+def implausible(name, value):
+    """Return why float32 `value` cannot be setting `name` on its own, or '' when it can.
+
+    The reasons: not finite, a sign other than +-1, or outside the setting's bound (the
+    message names the bound, its unit and where it comes from).
+    """
+    if not math.isfinite(value):
+        return 'not a finite float32 number'
+    if name in SIGNS and value not in (1.0, -1.0):
+        return 'a sign must be +1 or -1'
+    setting = BY_NAME[name]
+    low, high = to_float32(setting.low), to_float32(setting.high)
+    if not low <= value <= high:
+        return 'outside its bound [%s, %s] %s (%s)' % (
+            format_value(low), format_value(high), setting.unit, setting.bound_source)
+    return ''
 
 
 def section(joint):

@@ -4,7 +4,7 @@ import pytest
 
 from robopuppet import settings
 from robopuppet.config import config_file, config_store, feel_profile
-from robopuppet.config.float32 import to_float32
+from robopuppet.float32 import to_float32
 
 DEFAULT_FEEL = {'gain_scale': 0.25, 'voltage_limit': 2.0}
 

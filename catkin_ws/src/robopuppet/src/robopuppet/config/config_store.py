@@ -6,12 +6,11 @@ mode's gentle gains; a file without it reads as the defaults and gets it on its 
 Lines starting with '#' or ';' are comments, and a value may carry an inline comment after
 whitespace ('angle_min = -1.2  ; soft stop').
 """
-import math
 import re
 
 from robopuppet import settings
 from robopuppet.config import feel_profile
-from robopuppet.config.float32 import format_value, to_float32
+from robopuppet.float32 import format_value, to_float32
 
 _SECTION_RE = re.compile(r'^\s*\[\s*([^\]]*?)\s*\]\s*$')
 _OPTION_RE = re.compile(r'^(\s*)([A-Za-z_]\w*)(\s*[=:]\s*)(.*?)(\s+[#;].*)?\s*$')
@@ -77,7 +76,7 @@ def check_request(joint_values, joint, names, values):
         requested[name] = value
         try:
             result[name] = to_float32(float(value))
-            reason = implausible(name, result[name])
+            reason = settings.implausible(name, result[name])
         except (TypeError, ValueError):
             reason = 'not a number'
         if reason:
@@ -103,24 +102,6 @@ def check_request(joint_values, joint, names, values):
     if errors:
         raise InvalidSetting(*errors)
     return result
-
-
-def implausible(name, value):
-    """Return why float32 `value` cannot be setting `name` on its own, or '' when it can.
-
-    The reasons: not finite, a sign other than +-1, or outside the setting's bound (the
-    message names the bound, its unit and where it comes from).
-    """
-    if not math.isfinite(value):
-        return 'not a finite float32 number'
-    if name in settings.SIGNS and value not in (1.0, -1.0):
-        return 'a sign must be +1 or -1'
-    setting = settings.BY_NAME[name]
-    low, high = to_float32(setting.low), to_float32(setting.high)
-    if not low <= value <= high:
-        return 'outside its bound [%s, %s] %s (%s)' % (
-            format_value(low), format_value(high), setting.unit, setting.bound_source)
-    return ''
 
 
 def _lines(text):
@@ -222,7 +203,7 @@ def parse(text):
                 problems.append('[%s] %s = %r: not a number, using default %s'
                                 % (sec, name, text_value, format_value(settings.DEFAULTS[name])))
                 continue
-            reason = implausible(name, number)
+            reason = settings.implausible(name, number)
             if reason:
                 problems.append('[%s] %s = %s: invalid (%s), using default %s'
                                 % (sec, name, text_value, reason,

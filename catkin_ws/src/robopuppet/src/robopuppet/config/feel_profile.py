@@ -9,7 +9,7 @@ joint's settings, so a crash in feel mode leaves the file right.
 import math
 
 from robopuppet import settings
-from robopuppet.config.float32 import format_value, to_float32
+from robopuppet.float32 import format_value, to_float32
 
 PROFILE = 'feel'  # robopuppet_msgs/ArmSettings.profile of the feel settings ('' = as stored)
 

@@ -17,13 +17,13 @@ import math
 import reprlib
 
 from robopuppet import settings
+from robopuppet.float32 import to_float32
 from robopuppet.protocol import codec, device_commands
 
 RETRY_S = 1.0  # after a failed write, load everything again this much later
 # What the device may hold when the host does not know (after a (re)connect): any value the
 # hardware takes. Used for the plausibility of reported voltages.
 VOLTAGE_BOUNDS_V = (settings.BY_NAME['voltage_min'].low, settings.BY_NAME['voltage_max'].high)
-FLOAT32_SLACK = 1e-6  # relative: a bound rounded to float32 (config_X's values) is within it
 
 
 class _Batch:
@@ -206,7 +206,7 @@ def _problem(joints):
                 codec.encode(codec.JointConfig(joint, settings.CONFIG_ID[name], value))
             except codec.CodecError as error:
                 return 'joint %d %s: %s' % (joint, name, error)
-            why = _out_of_bounds(name, value)
+            why = settings.implausible(name, to_float32(value))   # as the frame carries it
             if why:
                 return 'joint %d %s = %r: %s' % (joint, name, value, why)
         for low, high in settings.RANGE_PAIRS:
@@ -218,15 +218,3 @@ def _problem(joints):
                 return 'joint %d %s..%s = %r..%r does not hold 0' % (joint, low, high,
                                                                      values[low], values[high])
     return None
-
-
-def _out_of_bounds(name, value):
-    """Return why a finite value is outside setting `name`'s bound, or '' (float32 rounding of
-    the bound, as config_X stores it, is within)."""
-    if name in settings.SIGNS:
-        return '' if value in (1.0, -1.0) else 'a sign must be +1 or -1'
-    setting = settings.BY_NAME[name]
-    slack = FLOAT32_SLACK * max(abs(setting.low), abs(setting.high))
-    if setting.low - slack <= value <= setting.high + slack:
-        return ''
-    return 'outside its bound [%g, %g] %s' % (setting.low, setting.high, setting.unit)
