@@ -7,6 +7,7 @@ OpenGL context is made on the first render, in the thread that renders (gl_rende
 """
 import collections
 import math
+import reprlib
 
 from robopuppet import interface, params
 from robopuppet.cameras import image_params, meshes, robot_shapes, scene
@@ -127,7 +128,8 @@ def check_positions(names, positions):
     for name, value in zip(names, positions):
         if not isinstance(name, str) or isinstance(value, bool) or \
                 not isinstance(value, (int, float)) or not math.isfinite(value):
-            raise ValueError('joint %r has position %r, not a finite number' % (name, value))
+            raise ValueError('joint %s has position %s, not a finite number'
+                             % (reprlib.repr(name), reprlib.repr(value)))
     return dict(zip(names, (float(p) for p in positions)))
 
 
