@@ -3,10 +3,11 @@
 
 Usage: benchmarks/bench_zones.py [--commands N] [--seed S]   (after `. tools/env.sh`; no ROS)
 
-Each case feeds ZoneGuard.limit (the last one ZoneGuard.slide) a stream of commands as arm_X
-would at 100 Hz, from the last command sent (the cut one when cut) to the next, with
-config/zones.yaml (the patient's head, body and bed) and prints the time per command, p50 / p99 /
-max, and how many arm configurations each check needed. Cases:
+Each case feeds ZoneGuard.limit (the 'box' ones ZoneGuard.limit_box as arm_X checks, 'sliding'
+ZoneGuard.slide as the stand-in's contact does) a stream of commands at 100 Hz, from the last
+command sent (the cut one when cut) to the next, with config/zones.yaml (the patient's head,
+body and bed) and prints the time per command, p50 / p99 / max, and how many arm
+configurations each check needed. Cases:
   clear      the puppet moved smoothly (joints at up to ~1 rad/s) from a pose 15 cm or more
              from every zone (it may come near them, or be held by one)
   teleop     the same from the SDK's neutral pose (5 cm from the head zone: mostly held there)
@@ -14,9 +15,12 @@ max, and how many arm configurations each check needed. Cases:
   pushing    the gripper driven down into the head zone every command: held at the boundary
   full speed every joint at its URDF velocity limit for one 10 ms command, near the zones
   big jumps  0.5 rad on every joint at once (no teleop command moves this far: an upper bound)
-  sliding    like 'near head' but through ZoneGuard.slide, as arm_X checks: held at a zone, a
-             command also tries each joint's step alone, in one batch (configurations: its
-             last check's)
+  sliding    like 'near head' but through ZoneGuard.slide (the stand-in's contact): held at
+             a zone, a command also tries each joint's step alone, in one batch
+  box teleop, box near head, box pushing
+             as 'teleop', 'near head' and 'pushing', through ZoneGuard.limit_box as arm_X
+             checks: Baxter lags LAG_STEPS commands behind, so the box spans its pose (the
+             command sent LAG_STEPS before) and the commands since
 The target is p99 under 0.5 ms for the teleop cases on the 2-core robot host. CPU time (this
 thread's) is printed beside wall time: on a loaded machine the wall time also holds the waits
 for a core, so compare runs made under the same load average (printed at start and end), or
@@ -35,6 +39,7 @@ from robopuppet.world import arm_capsules, zones
 from bench_support import percentile
 
 PERIOD_S = 0.01
+LAG_STEPS = 5   # the box cases: Baxter is where it was commanded this many commands before
 PKG = os.path.abspath(os.path.join(os.path.dirname(__file__), '..'))
 
 
@@ -71,6 +76,18 @@ def run(checker, start, targets, step=None, check=None):
         cuts += hit is not None
         last = np.asarray(out)
     return cpu, wall, checked, cuts
+
+
+def lagging(checker):
+    """Return a check(last, target) that calls checker.limit_box as arm_X does, with Baxter
+    LAG_STEPS commands behind: the box spans the command sent then and every one since."""
+    sent = []
+
+    def check(last, target):
+        sent.append(np.asarray(last))
+        window = np.array(sent[-LAG_STEPS - 1:])
+        return checker.limit_box(window.min(axis=0), window.max(axis=0), last, target)
+    return check
 
 
 def smooth_path(rng, start, count, side, speed_rad_s=1.0):
@@ -172,6 +189,12 @@ def main():
         for q in rng.uniform(lower, upper, size=(min(args.commands, 1000), 7))]))
     report('sliding', run(left, near, smooth_path(rng, near, args.commands, 'left'), step,
                           left.slide))
+    report('box teleop', run(left, neutral, smooth_path(rng, neutral, args.commands, 'left'),
+                             step, lagging(left)))
+    report('box near head', run(left, near, smooth_path(rng, near, args.commands, 'left'),
+                                step, lagging(left)))
+    report('box pushing', run(left, near, pushing_path(near, min(args.commands, 300), 'left'),
+                              step, lagging(left)))
     print('load average at the end %.1f (1 min), %.1f (5 min)' % os.getloadavg()[:2])
     return 0
 

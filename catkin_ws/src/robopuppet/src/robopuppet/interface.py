@@ -56,6 +56,7 @@ STORED_SETTINGS = 'stored_settings'  # robopuppet_msgs/ArmSettings, latched (con
 # robopuppet_msgs/ArmSettings, latched (config_X): what the device should hold now, the stored
 # settings or, in feel mode, those with feel mode's gentle gains (profile 'feel'; serial_X)
 ACTIVE_SETTINGS = 'active_settings'
+FEEL_PROFILE = 'feel'   # ArmSettings.profile of feel mode's settings ('': as stored)
 LINK_PING = 'link_ping'             # robopuppet_msgs/LinkPing from the robot host (arm_X)
 LINK_ECHO = 'link_echo'             # robopuppet_msgs/LinkPing answered by the operator host
 LINK_STATE = 'link_state'           # robopuppet_msgs/LinkState (arm_X)

@@ -8,6 +8,8 @@ the puppet.
 """
 import collections
 import math
+import struct
+import zlib
 
 from robopuppet.float32 import format_value, to_float32
 
@@ -62,6 +64,27 @@ RANGE_PAIRS = (('angle_min', 'angle_max'),
 # (out of [-pi, pi], and serial_X drops every set). A voltage range may exclude 0.
 ZERO_RANGES = (('velocity_min', 'velocity_max'),)
 SIGNS = ('sign_angle', 'sign_motor')
+# The settings that change the angle the puppet reports (DESIGN.md section 3, the firmware):
+# sign_angle x wrap(raw - sign_angle x home_angle), clamped to [angle_min, angle_max], its rate
+# limited to [velocity_min, velocity_max]. A change of one moves the reported angle while the
+# hand stays still: Baxter must not follow it (docs/teleop.md, "Settings that change the angle").
+# The others (voltage limits, PID gains, sign_motor) only change what the motors do.
+ANGLE_SETTINGS = ('home_angle', 'sign_angle', 'angle_min', 'angle_max', 'velocity_min',
+                  'velocity_max')
+ANGLE_TAG_PREFIX = 'angle_settings:'
+
+
+def angle_tag(joints):
+    """Return the text that names the ANGLE_SETTINGS values of joints 0..6 ([{name: value}],
+    taken as float32): equal values give equal texts, any change another (a CRC-32).
+
+    serial_X puts the tag of the settings it has begun to send to the device into each
+    joint_states' header.frame_id; arm_X follows a sample only when its tag is that of the
+    newest stored settings it has heard of (robopuppet.arm.angle_settings).
+    """
+    values = [to_float32(joints[joint][name]) for joint in JOINTS for name in ANGLE_SETTINGS]
+    data = b''.join(struct.pack('<d', value) for value in values)
+    return '%s%08x' % (ANGLE_TAG_PREFIX, zlib.crc32(data))
 
 
 def implausible(name, value):

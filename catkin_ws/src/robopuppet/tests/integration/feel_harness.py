@@ -26,7 +26,7 @@ class Device:
         self._lock = threading.Lock()
         self.opmode, self.opmodes, self.opmode_log = None, [], []
         self.config = None   # {setting name: [7 values]} the device holds
-        self._torques, self._voltages = [], []
+        self._torques, self._voltages, self._errors = [], [], []
         sim, ns = interface.sim_ns(side), interface.puppet_ns(side)
         rospy.Subscriber('%s/%s' % (sim, interface.SIM_DEVICE_OPMODE), String, self._on_opmode,
                          queue_size=10)
@@ -56,9 +56,10 @@ class Device:
         with self._lock:
             self._torques.append(list(msg.effort))
 
-    def _on_control(self, msg):
+    def _on_control(self, msg):   # position: setpoint, velocity: angle, effort: voltage
         with self._lock:
             self._voltages.append(list(msg.effort))
+            self._errors.append([s - a for s, a in zip(msg.position, msg.velocity)])
 
     def mark(self):
         """Return a mark for torques_since / voltages_since."""
@@ -74,6 +75,11 @@ class Device:
         """Return the device's PID voltages (V, 7 per control tick in hold) since mark."""
         with self._lock:
             return list(self._voltages[mark[1]:])
+
+    def errors_since(self, mark):
+        """Return the device's setpoint - angle (rad, 7 per control tick in hold) since mark."""
+        with self._lock:
+            return list(self._errors[mark[1]:])
 
 
 def follow_right(puppet, baxter):

@@ -6,7 +6,8 @@ Each fault is a process frozen with SIGSTOP (found by its pid through its own XM
 thawed with SIGCONT: the Baxter stand-in (robot absent: arm_R takes the puppet out of feel), the
 robot host's arm controller arm_R (nobody streams setpoints: serial_R's feel watchdog sends limp
 on its own) and the simulated puppet (silent: arm_R faults). After each the device stays limp
-until the operator chooses feel again.
+until the operator chooses feel again. Then feel from limp with the puppet far from Baxter: the
+device holds on the feel gains from its first control tick (serial_R loads them before the hold).
 """
 import contextlib
 import os
@@ -19,12 +20,14 @@ import rostest
 
 from feel_harness import Device, into_feel
 from hand_pose import HAND_POSE
-from robopuppet import interface
-from teleop_harness import Baxter, PuppetArm, calibrate, node_pid, wait_for
+from robopuppet import interface, settings
+from teleop_harness import Baxter, PuppetArm, calibrate, max_error, node_pid, wait_for
 
 # serial_R's feel watchdog: ~feel_setpoint_timeout (0.5 s) and the frame on the wire; the margin
 # is for a loaded machine.
 WATCHDOG_LIMP_S = 1.5
+ELBOW, AWAY_RAD = 3, 0.3   # the puppet's elbow this far from Baxter's: 6 V on the stored gains
+FEEL_ENTRIES = 5
 
 
 @contextlib.contextmanager
@@ -90,6 +93,39 @@ class FeelFaultsTest(unittest.TestCase):
             wait_for(lambda: puppet.teleop.opmode == interface.LIMP, 5, 'teleop opmode limp')
         wait_for(lambda: device.opmode == interface.LIMP, 10, 'the device limp once it runs')
         self.assert_stays_limp(puppet, device, 2.0)
+
+        # Feel from limp (the GUI's switch), the elbow 0.3 rad from Baxter's: the stored gains
+        # (pid_kp 20 V/rad) would ask 6 V at once, feel's 1.5 V, within 2 V. Five times: a
+        # control tick every 20 ms, and the gains' writes take about as long.
+        wait_for(lambda: puppet.state() == interface.READY, 10,
+                 'ready (now %s, %r)' % (puppet.state(), puppet.teleop.detail))
+        away = list(baxter.arm('right'))
+        away[ELBOW] += AWAY_RAD if away[ELBOW] < 0.5 else -AWAY_RAD
+        puppet.hand(away)
+        for _ in range(FEEL_ENTRIES):
+            self.assert_feel_starts_on_its_gains(puppet, device, away)
+
+    def assert_feel_starts_on_its_gains(self, puppet, device, away):
+        """Set feel with the puppet at `away`: the device pulls toward Baxter, and no control
+        tick from its first in hold is beyond feel's voltage limit; then limp again."""
+        wait_for(lambda: max_error(puppet.angles, away) < 0.05, 10,
+                 'the puppet away from Baxter (at %s, to %s)' % (puppet.angles, away))
+        mark = device.mark()
+        puppet.set_opmode(interface.FEEL)
+        wait_for(lambda: device.opmode == interface.HOLD, 5, 'the device holding in feel')
+        wait_for(lambda: len(device.voltages_since(mark)) >= 25, 5, 'half a second of ticks')
+        errors, voltages = device.errors_since(mark), device.voltages_since(mark)
+        self.assertGreater(max(abs(e[ELBOW]) for e in errors), AWAY_RAD - 0.1,
+                           'no pull toward Baxter')
+        most_v = max(abs(v) for tick in voltages for v in tick)
+        rospy.loginfo('feel_faults: feel from limp, %d ticks, |PID voltage| at most %.2f V',
+                      len(voltages), most_v)
+        self.assertLessEqual(most_v, settings.FEEL_DEFAULTS['voltage_limit'] + 1e-4,
+                             'a control tick beyond the feel voltage_limit (the first of %d: %s)'
+                             % (len(voltages), voltages[:3]))
+        self.assertEqual(puppet.teleop.opmode, interface.FEEL)
+        puppet.set_opmode(interface.LIMP)
+        wait_for(lambda: device.opmode == interface.LIMP, 5, 'the device limp again')
 
 
 if __name__ == '__main__':

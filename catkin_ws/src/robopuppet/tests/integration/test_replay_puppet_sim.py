@@ -1,7 +1,10 @@
 #!/usr/bin/python3
 """rostest: record an episode, play it back into the simulated puppet (kinesthetic playback):
-the puppet in hold follows the recorded path; the GUI's replay control plays, stops and is
-stopped by closing the window; button 1 stops it at once and it holds there."""
+the puppet in hold follows the recorded path and the playback finishes where it measures the
+last pose; the GUI's replay control plays, stops and is stopped by closing the window; button 1
+stops it at once and it holds there; a puppet held firmly makes the playback give up within its
+rule's time, go limp and say why; a hand resting on the puppet gives way and it plays."""
+import contextlib
 import math
 import subprocess
 import threading
@@ -16,7 +19,7 @@ from std_msgs.msg import Empty, Float32, String, UInt8
 
 from gui_testing import application, wait_until
 from robopuppet import interface, settings
-from robopuppet.episodes import export, export_files, replay_control
+from robopuppet.episodes import export, export_files, replay_control, tracking_watch as tw
 from robopuppet.gui.puppet_client import PuppetClient
 from robopuppet.gui.state import ArmState
 from robopuppet.gui.window import Window
@@ -33,6 +36,26 @@ LET_GO = [math.nan] * settings.NUM_JOINTS
 # far outside these.
 TOLERANCE_RAD = 0.1
 SAG_RAD = 0.12
+HELD_OFF_RAD = 0.6   # the held joints' distance from the recorded start pose
+
+
+@contextlib.contextmanager
+def gripping_hand(puppet, pose, period_s=0.1):
+    """Hold the simulated puppet's hand firmly at pose: the target sent every period_s, as an
+    operator who keeps holding on (a hand left alone rests on the puppet)."""
+    done = threading.Event()
+
+    def grip():
+        while not done.is_set():
+            puppet.hand(pose)
+            done.wait(period_s)
+    thread = threading.Thread(target=grip, daemon=True)
+    thread.start()
+    try:
+        yield
+    finally:
+        done.set()
+        thread.join()
 
 
 class ReplayPuppetSimTest(unittest.TestCase):
@@ -45,10 +68,12 @@ class ReplayPuppetSimTest(unittest.TestCase):
         cls.puppet, cls.baxter = PuppetArm('R'), Baxter()
         cls.client = PuppetClient('R', ArmState())
         cls.states, cls.setpoints, cls.stops, cls.presses = [], [], [], []
+        cls.voltages, cls.ticks = [], []
         cls.device = {'opmode': None, 'setpoints': None}
         ns, sim = interface.puppet_ns('R'), interface.sim_ns('R')
-        rospy.Subscriber(ns + '/' + interface.JOINT_STATES, JointState, lambda m: cls.keep(
-            cls.states, list(m.position)), queue_size=100)
+        rospy.Subscriber(ns + '/' + interface.JOINT_STATES, JointState, lambda m: (
+            cls.keep(cls.states, list(m.position)), cls.keep(cls.voltages, list(m.effort))),
+            queue_size=100)
         for j in settings.JOINTS:
             rospy.Subscriber(interface.joint_topic('R', j, 'setpoint'), Float32, lambda m, j: (
                 cls.keep(cls.setpoints, (m._connection_header['callerid'], j, m.data))), j,
@@ -58,8 +83,10 @@ class ReplayPuppetSimTest(unittest.TestCase):
             cls.keep(cls.presses, m.data) if m.data == interface.BUTTON_OPMODE else None))
         rospy.Subscriber(sim + '/' + interface.SIM_DEVICE_OPMODE, String,
                          lambda m: cls.device.__setitem__('opmode', m.data))
-        rospy.Subscriber(sim + '/' + interface.SIM_CONTROL, JointState,
-                         lambda m: cls.device.__setitem__('setpoints', list(m.position)))
+        rospy.Subscriber(sim + '/' + interface.SIM_CONTROL, JointState, lambda m: (
+            cls.device.__setitem__('setpoints', list(m.position)),
+            cls.keep(cls.ticks, (list(m.position), list(m.velocity), list(m.effort)))),
+            queue_size=1000)
         wait_for(lambda: cls.puppet.state() == interface.CALIBRATING, 30, 'arm_R calibrating')
         calibrate(cls.puppet, HAND_POSE)
         wait_for(lambda: cls.puppet.state() == interface.READY, 10, 'arm_R ready')
@@ -127,8 +154,8 @@ class ReplayPuppetSimTest(unittest.TestCase):
         self.hold_and_let_go()
         process = self.replay()
         self.assertEqual(process.wait(timeout=40), 0, ''.join(self.lines))
-        self.assertIn('replay: finished: puppet arm R holds the last recorded pose',
-                      ''.join(self.lines))
+        self.assertIn('replay: finished: puppet arm R holds the last recorded pose (measured '
+                      'within 0.0', ''.join(self.lines))
         playing_t = next(t for t, line in self.timed if line.startswith('replay: playing'))
         finished_t = next(t for t, line in self.timed if line.startswith('replay: finished'))
         duration_s = self.path.times[-1] - self.path.times[0]
@@ -136,6 +163,9 @@ class ReplayPuppetSimTest(unittest.TestCase):
         self.assertAlmostEqual(finished_t - playing_t, duration_s, delta=0.5)
         with self.lock:
             played = [q for t, q in self.states if playing_t - 0.2 <= t <= finished_t]
+        last = self.path.values[-1]
+        # Finished on the puppet's own report of the last pose (the last sample before it said so).
+        self.assertLess(max_error(played[-1], last), tw.FINAL_TOLERANCE_RAD)
         # On the recorded path (distances in joint space, so that a stall of the loaded test
         # machine is no error; the timing is above), and all along it: each joint reaches its
         # recorded extremes (where the recorded motion is slow).
@@ -152,7 +182,6 @@ class ReplayPuppetSimTest(unittest.TestCase):
         self.assertLess(off_path, TOLERANCE_RAD)
         self.assertLess(short, TOLERANCE_RAD)
         time.sleep(0.3)
-        last = self.path.values[-1]
         self.assertEqual(self.device['opmode'], interface.HOLD)
         self.assertLess(max_error(self.device['setpoints'], last), 1e-5)
         self.puppet.wait_sets(3)
@@ -240,6 +269,76 @@ class ReplayPuppetSimTest(unittest.TestCase):
         drift = max(max_error(q, stay) for q in after)
         print('puppet within %.3f rad of the stop pose after button 1' % drift)
         self.assertLess(drift, SAG_RAD)
+
+    def test_4_a_puppet_held_firmly_makes_the_playback_give_up_and_go_limp(self):
+        # A hand that keeps gripping (the operator holds on: hand targets sent again and again)
+        # with joints 0 and 3 0.6 rad away from the recorded start: the motors saturate and the
+        # puppet stays there. Start limp, the hand holding it.
+        self.client.set_opmode(interface.LIMP)
+        wait_for(lambda: self.device['opmode'] == interface.LIMP, 5, 'the puppet limp')
+        held = list(self.path.values[0])
+        held[0] += HELD_OFF_RAD
+        held[3] -= HELD_OFF_RAD
+        with gripping_hand(self.puppet, held):
+            wait_for(lambda: max_error(self.puppet.angles, held) < 0.1, 10,
+                     'the puppet at the held pose (at %s)' % self.puppet.angles)
+            code, started = self.replay_to_its_end()
+            text = ''.join(self.lines)
+            print(text)
+            self.assertEqual(code, 1, text)
+            said_t = next(t for t, line in self.timed if line.startswith('replay: stopped'))
+            self.assertRegex(text, r'replay: stopped: puppet arm R does not follow: joint 0 '
+                             r'0\.\d\d rad from its setpoint for \d\.\d s at -?7\.20 V, '
+                             r'joint 3 0\.\d\d rad from its setpoint for \d\.\d s at -?7\.20 V '
+                             r'\(saturated\); puppet arm R went limp')
+            # The puppet's own reports: the motors at 0 V, the device limp.
+            wait_for(lambda: any(all(v == 0.0 for v in volts)
+                                 for _, volts in self.since(self.voltages, said_t)), 5,
+                     'the puppet reporting 0 V on every motor')
+            self.assertEqual(self.device['opmode'], interface.LIMP)
+            # Given up within the rule's time: from the control tick since which joint 0 or 3
+            # has been more than FOLLOW_ERROR_RAD from its setpoint at its voltage limit, to the
+            # last tick in hold (the device's own PID, at 50 Hz).
+            ticks = self.since(self.ticks, started)
+            onset = None
+            for t, (setpoints, angles, volts) in ticks:
+                far = any(abs(setpoints[j] - angles[j]) > tw.FOLLOW_ERROR_RAD
+                          and tw.saturated(volts[j], -7.2, 7.2) for j in (0, 3))
+                onset = (onset or t) if far else None
+            self.assertIsNotNone(onset, 'not far from the setpoints at the voltage limit at the '
+                                 'end')
+            given_up_s = ticks[-1][0] - onset
+            print('held firmly: far and saturated from %.2f s after the start, limp %.2f s '
+                  'later' % (onset - started, given_up_s))
+            self.assertGreater(given_up_s, tw.FOLLOW_TIME_S - 0.15)
+            self.assertLess(given_up_s, tw.FOLLOW_TIME_S + 0.5)
+
+    def test_5_a_hand_resting_on_the_puppet_gives_way_and_it_plays(self):
+        # The hand stays on the puppet, left alone (not let go, not held on: nothing sent to
+        # it since test 4's grip): the simulated hand rests there and gives way to the motors,
+        # as a nurse's does (puppet_sim.puppet_arm).
+        self.assertEqual(self.device['opmode'], interface.LIMP)
+        code, _ = self.replay_to_its_end()
+        self.assertEqual(code, 0, ''.join(self.lines))
+        self.assertIn('replay: finished: puppet arm R holds the last recorded pose (measured '
+                      'within 0.0', ''.join(self.lines))
+        self.puppet.wait_sets(3)
+        print('resting hand: %sthe puppet %.3f rad from the last recorded pose'
+              % (self.lines[-1], max_error(self.puppet.angles, self.path.values[-1])))
+        self.assertLess(max_error(self.puppet.angles, self.path.values[-1]), TOLERANCE_RAD)
+
+    def replay_to_its_end(self, attempts=3):
+        """Run the replay into puppet R to its end; return (exit code, when it started). Again
+        when arm_R's own fault put the puppet limp under it (its state timeout, 0.4 s, trips
+        when a loaded machine starves the puppet's stream: arm_R's call, as in test 3)."""
+        for attempt in range(1, attempts + 1):
+            started = time.monotonic()
+            code = self.replay().wait(timeout=40)
+            if attempt == attempts or not ('was put limp by /arm_R' in ''.join(self.lines)
+                                           and self.arm_faulted(started)):
+                return code, started
+            print('arm_R faulted during playback %d (%s); again' % (attempt, self.lines[-1:]))
+            wait_for(lambda: self.device['opmode'] == interface.LIMP, 5, 'the puppet limp')
 
     def arm_faulted(self, t):
         """Return True when arm_R reported a fault since shortly before t."""

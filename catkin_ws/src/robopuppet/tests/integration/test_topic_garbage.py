@@ -284,6 +284,8 @@ class TopicGarbageTest(unittest.TestCase):
             pub.unregister()
         record = rospy.ServiceProxy('/puppet/record', Record)
         record(start=False, notes='')    # an episode button 4 garbage started, if any
+        for puppet in (right, left):   # config_X refuses a new home or sign while one follows
+            self.unfollow(puppet)
         for side in interface.PUPPET_SIDES:
             set_config = rospy.ServiceProxy('%s/%s' % (interface.puppet_ns(side),
                                                        interface.SET_CONFIG), SetConfig)
@@ -329,6 +331,22 @@ class TopicGarbageTest(unittest.TestCase):
                          5, 'puppet %s Working' % puppet.side)
             except AssertionError:
                 calibrate(puppet, pose)
+
+    def unfollow(self, puppet, timeout_s=30.0):
+        """Press 2 and 3 on the puppet until no Baxter arm follows it (any state)."""
+        deadline = time.monotonic() + timeout_s
+        while puppet.teleop.follow_left or puppet.teleop.follow_right:
+            if time.monotonic() > deadline:
+                raise AssertionError('puppet %s still drives Baxter after %.0f s (%s)' % (
+                    puppet.side, timeout_s, puppet.teleop))
+            arm = 'follow_left' if puppet.teleop.follow_left else 'follow_right'
+            puppet.press(interface.BUTTON_LEFT if arm == 'follow_left' else
+                         interface.BUTTON_RIGHT)
+            try:
+                wait_for(lambda: not getattr(puppet.teleop, arm), 2,
+                         'arm_%s letting go' % puppet.side)
+            except AssertionError:
+                pass   # the press came in a state that ignores it: pressed again
 
     def follow(self, puppet, follow_left, follow_right, timeout_s=30.0):
         """Press 2 and 3 on the puppet until it drives exactly the Baxter arms asked for.

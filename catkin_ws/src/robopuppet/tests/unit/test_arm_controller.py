@@ -6,7 +6,7 @@ import collections
 import pytest
 
 from robopuppet import baxter_description, interface, settings
-from robopuppet.arm import baxter_upkeep, controller, opmode, timing
+from robopuppet.arm import baxter_upkeep, baxter_watch, controller, opmode, timing
 from robopuppet.periodic import Guard
 
 LIMITS = {side: baxter_description.arm_limits(side) for side in interface.BAXTER_SIDES}
@@ -30,6 +30,8 @@ class Rig:
         self.echo = echo   # the operator host answers pings at once (2 ms each way)
         self.enabled = True
         self.echo_t = None   # when the newest echo came
+        self.robot_age_s = 0.0   # how old Baxter's joint states are by their stamp on arrival
+        self.robot_sides = interface.BAXTER_SIDES   # the arms in Baxter's joint states
 
     def now_s(self):
         """Return the robot host's ROS clock (s)."""
@@ -50,8 +52,9 @@ class Rig:
 
     def baxter(self, enabled=True):
         self.core.baxter.on_robot_state(self.t, enabled and self.enabled, False, False)
-        names = sum((baxter_description.arm_joint_names(s) for s in interface.BAXTER_SIDES), [])
-        self.core.on_robot_joints(self.t, names, POSE['left'] + POSE['right'], [], 0.0)
+        names = sum((baxter_description.arm_joint_names(s) for s in self.robot_sides), [])
+        self.core.on_robot_joints(self.t, names, sum((POSE[s] for s in self.robot_sides), []),
+                                  [], self.robot_age_s)
 
     def puppet(self, statuses=interface.WORKING, angles=None, age_s=0.0):
         """Send the puppet's joint states, age_s old on arrival."""
@@ -117,7 +120,7 @@ class Wall:
     def __init__(self):
         self.blocking = False
 
-    def slide(self, before, command):
+    def limit_box(self, lo, hi, before, command):
         if self.blocking:
             return list(before), collections.namedtuple('Hit', 'zone link')('bed', 'right_hand')
         return command, None
@@ -288,3 +291,70 @@ def test_a_used_stamp_in_the_future_on_a_refined_estimate_is_forgotten_and_said(
     taken, problem = core.on_joint_states(rig.t, names, POSE['right'], rig.operator_s(0.01),
                                           rig.now_s())
     assert taken and 'lies in the future' in problem and 'forgotten (1 so far)' in problem
+
+
+def feel_ready(robot_age_s=0.0):
+    """Return a ready Rig whose puppet holds (arm_X's hold), Baxter's joint states robot_age_s
+    old by their stamp from now on."""
+    rig = ready()
+    rig.press(interface.BUTTON_OPMODE)
+    assert rig.core.teleop.opmode == interface.HOLD
+    rig.robot_age_s = robot_age_s
+    return rig
+
+
+def opmodes_in(actions):
+    return [a.mode for a in actions if isinstance(a, opmode.SetOpmode)]
+
+
+@pytest.mark.parametrize('age_s, mode', [(0.01, interface.FEEL), (1.1, interface.LIMP)])
+def test_feel_takes_baxters_pose_as_old_as_its_stamp_says(age_s, mode):
+    """A Baxter pose stamped more than baxter_upkeep.ROBOT_TIMEOUT_S (1 s) before its arrival
+    is not fresh: feel is refused (the puppet goes limp); one 10 ms old is fresh."""
+    rig = feel_ready(age_s)
+    actions = rig.press(interface.BUTTON_OPMODE)
+    assert opmodes_in(actions) == [mode]
+    assert rig.core.teleop.state == interface.READY   # Baxter's messages arrive: present
+    if mode == interface.LIMP:
+        assert "Baxter's right arm pose is 1.10 s old" in rig.core.teleop.detail
+
+
+def test_baxters_stamps_falling_behind_in_feel_let_the_puppet_go_limp():
+    rig = feel_ready()
+    assert opmodes_in(rig.press(interface.BUTTON_OPMODE)) == [interface.FEEL]
+    rig.robot_age_s = 0.9
+    assert opmodes_in(rig.step()) == []
+    rig.robot_age_s = 1.1   # e.g. Baxter's joint states queued up on the way
+    assert opmodes_in(rig.step()) == [interface.LIMP]
+    assert "feel ended, the puppet goes limp: Baxter's right arm pose is 1.10 s old" in \
+        rig.core.teleop.detail
+
+
+def test_a_baxter_stamp_ahead_of_the_clock_counts_as_measured_on_arrival():
+    """A future stamp (Baxter's clock ahead of the robot host's) is age 0: the pose is fresh,
+    and it grows old from its arrival like any other, not 5 s later."""
+    rig = feel_ready(-5.0)
+    assert opmodes_in(rig.press(interface.BUTTON_OPMODE)) == [interface.FEEL]
+    assert rig.core.teleop.robot.pose_age('right', rig.t) == 0.0
+    arrived_t = rig.t
+    rig.robot_sides = ('left',)   # Baxter's joint states go on, without the right arm's
+    while not opmodes_in(rig.step()):
+        assert rig.t - arrived_t < 1.5, 'the right arm pose never grew old'
+    assert rig.t - arrived_t == pytest.approx(baxter_upkeep.ROBOT_TIMEOUT_S, abs=2 * PERIOD_S)
+    assert rig.core.teleop.opmode == interface.LIMP
+
+
+def test_a_stop_on_an_old_baxter_pose_extrapolates_it_at_most_max_extrapolation():
+    """Following stops on an old pose (0.5 s by its stamp): the stay command is the pose moved
+    on by its velocity for baxter_watch.MAX_EXTRAPOLATION_S (0.05 s) only."""
+    rig = ready()
+    rig.press(interface.BUTTON_RIGHT)
+    speeds = [0.2, 0.0, 0.0, -0.3, 0.0, 0.0, 0.0]   # rad/s
+    names = sum((baxter_description.arm_joint_names(s) for s in interface.BAXTER_SIDES), [])
+    rig.core.on_robot_joints(rig.t, names, POSE['left'] + POSE['right'], [0.0] * 7 + speeds,
+                             0.5)
+    rig.core.teleop.on_button(rig.t, interface.BUTTON_RIGHT)   # stop following, Baxter still
+    out = rig.core.step(rig.t)                                 # reporting nothing newer
+    stay = [a.angles for a in out if isinstance(a, controller.ArmCommand)]
+    assert stay == [pytest.approx([a + v * baxter_watch.MAX_EXTRAPOLATION_S
+                                   for a, v in zip(POSE['right'], speeds)])]

@@ -141,6 +141,52 @@ def test_a_refused_joint_is_reported_and_undo_restores_what_was_written(tab, arm
     assert arm.stored_settings() == before
 
 
+def teleop(follow_right, received_s=0.0):
+    return state.Teleop(interface.FOLLOWING if follow_right else interface.READY, False,
+                        follow_right, interface.LIMP, 0.1, '', '', '', received_s)
+
+
+def test_apply_is_disabled_while_the_arm_follows_and_says_why(tab, arm, qtbot):
+    """A new home or sign would move a following Baxter arm (config_X refuses it then too)."""
+    before = arm.stored_settings()
+    capture_all(tab, arm, qtbot)
+    arm.state.on_teleop(teleop(True))
+    frame(tab, arm)
+    apply = tab.buttons['Apply']
+    assert not apply.isEnabled()
+    assert apply.toolTip() == ("Baxter's right arm follows this puppet: stop following first: "
+                               'press 3')
+    tab.apply()   # not through the button: refused in the window, nothing sent
+    assert 'not applied' in tab.message.text() and 'press 3' in tab.message.text()
+    assert arm.stored_settings() == before
+    tab.refresh(arm.state.snapshot(), 2.5)   # a teleop_state 2.5 s old: arm_X stops itself
+    assert apply.isEnabled() and apply.toolTip() == ''
+    arm.state.on_teleop(teleop(False, received_s=2.5))
+    frame(tab, arm)
+    assert apply.isEnabled()
+
+
+def test_undo_of_home_and_sign_is_disabled_while_the_arm_follows(tab, arm, qtbot):
+    capture_all(tab, arm, qtbot)
+    tab.apply()
+    qtbot.waitUntil(lambda: not tab._task.busy(), timeout=5000)
+    assert tab.buttons['Undo'].isEnabled()
+    arm.state.on_teleop(teleop(True))
+    frame(tab, arm)
+    assert not tab.buttons['Undo'].isEnabled()
+    assert 'press 3' in tab.buttons['Undo'].toolTip()
+
+
+def test_a_refusal_because_the_arm_follows_is_shown(tab, arm, qtbot):
+    capture_all(tab, arm, qtbot)
+    why = ("joint 0 home_angle and sign_angle change what the puppet's angles mean, and Baxter's "
+           'right arm follows this puppet: stop following first: press 3')
+    arm.set_config = lambda joint, values: SetAnswer(False, why, {})
+    tab.apply()   # arm_X's teleop_state had not reached the window yet
+    qtbot.waitUntil(lambda: not tab._task.busy(), timeout=5000)
+    assert 'FAILED: joint 0 refused: ' + why in tab.message.text()
+
+
 def test_a_clamped_or_uncalibrated_reading_is_not_captured(tab, arm):
     arm.pose(procedure.POSES[0].angles_rad)
     frame(tab, arm)

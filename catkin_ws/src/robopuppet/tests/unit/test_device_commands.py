@@ -60,6 +60,20 @@ def test_a_hold_fills_missing_setpoints_with_the_current_angles_first():
     assert len(dc.pack([codec.encode(m) for m in plan.messages])) == 1
 
 
+def test_setpoints_given_to_a_hold_go_first_and_are_not_filled():
+    gate = dc.HoldGate()
+    angles = [0.1 * (j + 1) for j in settings.JOINTS]
+    gate.on_angles(angles, 1)
+    given = [codec.JointSetpoint(4, -0.25), codec.JointSetpoint(6, 0.75)]
+    plan = gate.plan_hold(1, given)
+    assert plan.messages == given + [codec.JointSetpoint(j, angles[j]) for j in settings.JOINTS
+                                     if j not in (4, 6)] + [codec.Opmode(codec.HOLD)]
+    assert len(dc.pack([codec.encode(m) for m in plan.messages])) == 1
+    everything = [codec.JointSetpoint(j, 0.5) for j in settings.JOINTS]
+    assert dc.HoldGate().plan_hold(1, everything).messages == everything + [
+        codec.Opmode(codec.HOLD)]   # seven given: no angles needed
+
+
 def test_seven_setpoints_make_a_bare_hold_and_limp_or_a_new_epoch_resets_them():
     gate = dc.HoldGate()
     gate.record([codec.JointSetpoint(j, 0.2) for j in settings.JOINTS], 1)
@@ -154,18 +168,3 @@ def test_the_pacer_lets_small_or_spaced_writes_go_at_once():
     assert pacer.delay_s(1.012, 63) == 0.0  # 5 ms after the group's last write
     pacer.wrote(1.012, 63)
     assert pacer.delay_s(1.013, 1) == 0.0 and pacer.delay_s(1.013, 2) == pytest.approx(0.004)
-
-
-def test_the_feel_watch_times_out_only_in_feel_counting_from_the_last_setpoint():
-    watch = dc.FeelWatch(0.5)
-    watch.on_setpoint(1.0)
-    assert not watch.active and watch.expired(100.0) is None and watch.due_s == float('inf')
-    watch.start(10.0)
-    assert watch.active and watch.due_s == 10.5
-    watch.on_setpoint(10.4)
-    assert watch.expired(10.8) is None
-    assert watch.expired(10.9) == pytest.approx(0.5)
-    watch.stop()
-    assert watch.expired(20.0) is None and not watch.active
-    with pytest.raises(ValueError):
-        dc.FeelWatch(0.0)

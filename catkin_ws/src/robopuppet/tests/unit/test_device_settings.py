@@ -322,7 +322,50 @@ def test_a_failed_write_loads_everything_again_after_the_retry_time():
 ])
 def test_bad_stored_settings_are_logged_and_the_previous_ones_kept(joints, problem):
     sync, device, clock, log = loaded()
-    sync.on_stored(2, joints(stored_settings(j4_pid_kd=3.0)))
+    assert sync.on_stored(2, joints(stored_settings(j4_pid_kd=3.0))) is False
     assert sync.revision == 1 and problem in log.warnings[-1]
     run(sync, clock)
     assert device.take() == []
+
+
+def test_the_device_holds_the_stored_settings_once_the_last_write_of_them_went_out():
+    sync, device, clock, _ = make()
+    store(sync, stored_settings())
+    assert not sync.holds_stored   # not connected yet
+    sync.unload()
+    sync.step()
+    assert not sync.holds_stored   # loading
+    run(sync, clock)
+    assert sync.holds_stored
+    assert sync.on_stored(2, sorted(stored_settings(j1_pid_kp=3.0, j6_pid_kp=3.0).items()))
+    assert not sync.holds_stored   # written in one step, not yet
+    run(sync, clock)
+    assert sync.holds_stored
+    store(sync, stored_settings(j1_pid_kp=3.0, j6_pid_kp=3.0), revision=3)   # nothing new
+    assert sync.holds_stored
+    sync.unload()
+    assert not sync.holds_stored
+
+
+def test_the_angle_tag_changes_before_the_first_write_of_new_angle_settings():
+    """serial_X tags joint_states with it: a state set read after a write began carries the
+    tag of what the write carries (arm.angle_settings)."""
+    sync, device, clock, log = make()
+    assert sync.angle_tag == ''
+    old = stored_settings()
+    store(sync, old)
+    sync.unload()
+    seen = []
+    device.on_write = lambda: seen.append(sync.angle_tag)
+    run(sync, clock)
+    tag = settings.angle_tag([old[j] for j in settings.JOINTS])
+    assert set(seen) == {tag} and sync.angle_tag == tag
+    new = stored_settings(j0_home_angle=0.5)
+    store(sync, new, revision=2)
+    assert sync.angle_tag == tag   # nothing written yet: the device reports the old meaning
+    seen.clear()
+    run(sync, clock)
+    assert seen and set(seen) == {settings.angle_tag([new[j] for j in settings.JOINTS])}
+    store(sync, stored_settings(j0_home_angle=0.5, j3_pid_kp=2.0), revision=3)
+    run(sync, clock)
+    assert sync.angle_tag == seen[0]   # a gain is no change of meaning

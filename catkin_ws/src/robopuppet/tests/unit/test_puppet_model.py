@@ -5,8 +5,8 @@ import pytest
 
 from robopuppet import settings
 from robopuppet.protocol import codec
-from robopuppet.puppet_sim.puppet_arm import (COULOMB_FRICTION_NM, NOMINAL_VOLTAGE_V,
-                                              STALL_TORQUE_NM)
+from robopuppet.puppet_sim.puppet_arm import (COULOMB_FRICTION_NM, HAND_GRIP_S, HAND_YIELD_V,
+                                              NOMINAL_VOLTAGE_V, STALL_TORQUE_NM)
 from robopuppet.puppet_sim.puppet_model import (POWER_ON_SETTINGS, QUAD_JOINTS, REST_POSE_RAD,
                                                 PuppetFirmware)
 
@@ -16,11 +16,15 @@ ID = settings.CONFIG_ID
 LOADED = dict(velocity_min=-6.283, velocity_max=6.283, voltage_min=-7.2, voltage_max=7.2)
 
 
-def run(firmware, start_s, seconds, step_s=0.01):
-    """Advance firmware from start_s for seconds; return (end time, all messages sent)."""
+def run(firmware, start_s, seconds, step_s=0.01, grip=None):
+    """Advance firmware from start_s for seconds; return (end time, all messages sent).
+
+    grip: {joint: angle rad} the hand keeps holding (sent again every 0.1 s), or None."""
     out = []
     t = start_s
     while t < start_s + seconds - 1e-9:
+        if grip and round(t / step_s) % round(0.1 / step_s) == 0:
+            firmware.set_hand(grip)
         t += step_s
         out.extend(firmware.advance(t))
     return t, out
@@ -220,8 +224,7 @@ def test_firm_hand_wins_against_hold():
     t, _ = run(firmware, 0.0, 0.3)
     firmware.handle(codec.JointSetpoint(1, REST_POSE_RAD[1]))
     firmware.handle(codec.Opmode(codec.HOLD))
-    firmware.set_hand({1: -0.5})
-    _, out = run(firmware, t, 3.0)
+    _, out = run(firmware, t, 3.0, grip={1: -0.5})  # the operator holds on
     last = [m for m in states(out) if m.joint == 1][-1]
     assert last.angle_rad == pytest.approx(-0.5, abs=0.15)
     assert last.voltage_v == pytest.approx(7.2, abs=1e-3)  # the motor pushes back, saturated
@@ -235,8 +238,8 @@ def hand_against_hold(voltage_limit_v):
     t, _ = run(firmware, 0.0, 0.3)
     firmware.handle(codec.JointSetpoint(1, REST_POSE_RAD[1]))
     firmware.handle(codec.Opmode(codec.HOLD))
-    firmware.set_hand({1: -0.5, 2: math.nan})
-    run(firmware, t, 3.0)
+    firmware.set_hand({2: math.nan})
+    run(firmware, t, 3.0, grip={1: -0.5})
     return firmware, firmware.arm.hand_torque_nm[1], firmware.arm.motor_voltage_v[1]
 
 
@@ -255,6 +258,53 @@ def test_hand_torque_grows_with_the_servo_voltage_it_meets():
     strong = hand_against_hold(2.0)[1]
     assert weak < 0.0 and strong < weak  # pulling toward -0.5 rad, harder against 2 V
     assert weak - strong == pytest.approx(STALL_TORQUE_NM[1] / NOMINAL_VOLTAGE_V, abs=0.13)
+
+
+def held_away_resting(voltage_limit_v=7.2, away_rad=0.6):
+    """Hold joints 1 and 3 away_rad from where the hand put them (shipped gains), the hand
+    left alone from then on; return (firmware, time, the hand's pose)."""
+    firmware = loaded(pid_kp=20.0, pid_ki=10.0, pid_kd=1.0, voltage_min=-voltage_limit_v,
+                      voltage_max=voltage_limit_v)
+    hand = list(REST_POSE_RAD)
+    firmware.set_hand(dict(enumerate(hand)))
+    t, _ = run(firmware, 0.0, 0.3)
+    for joint in settings.JOINTS:
+        firmware.handle(codec.JointSetpoint(joint, firmware.angle_rad[joint] + (
+            away_rad if joint in (1, 3) else 0.0)))
+    firmware.handle(codec.Opmode(codec.HOLD))
+    return firmware, t, hand
+
+
+def test_a_resting_hand_gives_way_to_the_motors_in_hold():
+    firmware, t, hand = held_away_resting()
+    t, _ = run(firmware, t, HAND_GRIP_S - 0.4)
+    assert abs(firmware.arm.angle_rad[1] - hand[1]) < 0.15  # it still grips: held back
+    assert abs(firmware.voltage_v[1]) > HAND_YIELD_V
+    t, _ = run(firmware, t, 3.0)
+    for joint in (1, 3):  # then it goes along: the joints reach their setpoints
+        assert firmware.angle_rad[joint] == pytest.approx(firmware.setpoint_rad[joint],
+                                                          abs=0.05)
+        assert abs(firmware.voltage_v[joint]) < HAND_YIELD_V
+        assert firmware.arm.hand_torque_nm[joint] == 0.0  # pushing nothing
+    firmware.set_hand(dict(enumerate(hand)))  # the same targets again (another slider moved)
+    assert firmware.arm.hand_torque_nm[1] == 0.0 and firmware.arm.hand_yielding[1]
+    # Limp: the resting hand holds the puppet where it is (no drop under gravity).
+    there = list(firmware.arm.angle_rad)
+    firmware.handle(codec.Opmode(codec.LIMP))
+    t, _ = run(firmware, t, 1.0)
+    assert max(abs(a - b) for a, b in zip(firmware.arm.angle_rad, there)) < 0.06
+    # A new input grips again: the hand moves the limp puppet.
+    firmware.set_hand({1: hand[1]})
+    run(firmware, t, 1.0)
+    assert firmware.arm.angle_rad[1] == pytest.approx(hand[1], abs=0.06)
+
+
+def test_a_resting_hand_does_not_give_way_to_feels_gentle_pull():
+    firmware, t, hand = held_away_resting(voltage_limit_v=2.0)  # feel mode's default limit
+    run(firmware, t, 3.0)
+    assert abs(firmware.arm.angle_rad[1] - hand[1]) < 0.1
+    assert abs(firmware.voltage_v[1]) == pytest.approx(2.0, abs=1e-3)
+    assert firmware.arm.hand_torque_nm[1] != 0.0  # the nurse feels the pull
 
 
 def test_bare_hold_keeps_setpoint_zero_and_drives_toward_it():

@@ -1,5 +1,6 @@
 """Unit tests of playback into the puppet: hold first, a slow approach, the recorded timing at a
-speed factor, bounded setpoint speed, angle limits, refusals and every stop."""
+speed factor, bounded setpoint speed, angle limits, refusals, every stop, and the tracking
+watch's stops (limp, and why)."""
 import math
 
 import numpy as np
@@ -7,6 +8,8 @@ import pytest
 
 from robopuppet import settings
 from robopuppet.episodes import puppet_playback as pp
+from robopuppet.episodes import replay_control
+from robopuppet.episodes import tracking_watch as tw
 from robopuppet.episodes.export import Recording, Samples
 from robopuppet.episodes.replay import APPROACH, FINISHED, PLAY, STOPPED, ReplayError
 from robopuppet.interface import BUTTON_OPMODE, BUTTON_RIGHT, HOLD, LIMP, UNCALIBRATED, WORKING
@@ -108,10 +111,12 @@ def test_the_recorded_timing_times_the_speed_factor(speed):
     # 0.4 s after the start the episode is at 0.4 x speed s of 2 s: the ramp at 0.2 x speed
     assert at.setpoints['R'][3] == pytest.approx(START[3] + 0.4 * 0.4 * speed / 2.0)
     finished_t = next(t for t, s in steps if s.phase == FINISHED)
-    assert finished_t - play_t == pytest.approx(2.0 / speed, abs=2 * PERIOD_S)
+    # finished once the puppet measures the last setpoints: here one period after them
+    assert finished_t - play_t == pytest.approx(2.0 / speed + PERIOD_S, abs=2 * PERIOD_S)
     assert steps[-1][1] == pp.Step(FINISHED, {}, {})
     assert core.progress() == pytest.approx((2.0, 2.0))
-    assert core.outcome('R') == 'puppet arm R holds the last recorded pose'
+    assert core.outcome('R') == ('puppet arm R holds the last recorded pose (measured within '
+                                 '0.00 rad)')
 
 
 def test_a_speed_out_of_range_is_refused():
@@ -258,3 +263,112 @@ def test_puppet_paths_drop_incomplete_joint_states_and_need_some():
     assert list(paths['R'].times) == [0.0, 0.2]
     with pytest.raises(ReplayError, match='no joint states of puppet arm L'):
         pp.puppet_paths(recording, ['L'])
+
+
+# ---- the tracking watch (robopuppet.episodes.tracking_watch) in the playback ----------------
+
+def hold_back(core, t0, t1, angles, volts, side='R'):
+    """Step from t0 to t1; the puppet reports angles (rad; a function of the setpoints sent,
+    or fixed) and volts (V) after each step."""
+    steps, t, sent = [], t0, None
+    while t < t1 - 1e-9:
+        t += PERIOD_S
+        step = core.step(t)
+        steps.append((t, step))
+        sent = step.setpoints.get(side, sent)
+        here = angles(sent) if callable(angles) else angles
+        core.on_puppet(t, side, list(here), list(volts))
+    return steps
+
+
+def test_a_puppet_that_does_not_follow_goes_limp_and_says_why():
+    # The new user's puppet: held where it is, every motor at its voltage limit.
+    core = ready(ramp(rise_rad=1.0))
+    core.start(0.0)
+    steps = hold_back(core, 0.0, 4.0, START, [7.2] * 7)
+    play_t = next(t for t, s in steps if s.phase == PLAY)
+    stop_t, stop = next((t, s) for t, s in steps if s.phase == STOPPED)
+    # joint 3's setpoint rises 0.5 rad/s: beyond FOLLOW_ERROR_RAD after 0.6 s, then the time
+    assert stop_t - play_t == pytest.approx(tw.FOLLOW_ERROR_RAD / 0.5 + tw.FOLLOW_TIME_S,
+                                            abs=2 * PERIOD_S)
+    assert stop == pp.Step(STOPPED, {}, {'R': LIMP})      # limp, once; no setpoints after
+    assert all(s == pp.Step(STOPPED, {}, {}) for t, s in steps if t > stop_t)
+    assert core.why == ('puppet arm R does not follow: joint 3 0.80 rad from its setpoint for '
+                        '1.0 s at 7.20 V (saturated)')
+    assert core.outcome('R') == 'puppet arm R went limp'
+
+
+def test_a_motor_saturated_too_long_goes_limp_however_close():
+    core = ready(ramp(duration_s=3.0))
+    core.start(0.0)
+    volts = [0.0, 0.0, -7.2, 0.0, 0.0, 0.0, 0.0]
+    steps = hold_back(core, 0.0, 4.0, lambda sent: sent, volts)   # on its setpoints
+    stop_t, stop = next((t, s) for t, s in steps if s.phase == STOPPED)
+    # saturated from the first sample (after the first step), stopped at the step after that
+    assert stop_t == pytest.approx(2 * PERIOD_S + tw.SATURATION_MAX_S, abs=1e-9)
+    assert stop.opmodes == {'R': LIMP}
+    assert core.why == ('puppet arm R pushes at its voltage limit too long: joint 2 at -7.20 V '
+                        'for 2.0 s, 0.00 rad from its setpoint (to protect the motors)')
+
+
+@pytest.mark.parametrize('off_rad, finished', [(tw.FINAL_TOLERANCE_RAD - 0.01, True),
+                                               (tw.FINAL_TOLERANCE_RAD + 0.01, False)])
+def test_finished_only_when_the_puppet_measures_the_last_pose(off_rad, finished):
+    core = ready(ramp())
+    core.start(0.0)
+    steps = hold_back(core, 0.0, 8.0, lambda sent: [a + (off_rad if j == 5 else 0.0)
+                                                     for j, a in enumerate(sent)], [1.0] * 7)
+    play_t = next(t for t, s in steps if s.phase == PLAY)
+    arrived_t = play_t + 2.0     # the 2 s episode
+    if finished:
+        assert core.phase == FINISHED
+        assert core.outcome('R') == ('puppet arm R holds the last recorded pose (measured '
+                                     'within 0.04 rad)')
+        return
+    stop_t, stop = next((t, s) for t, s in steps if s.phase == STOPPED)
+    assert stop_t - arrived_t == pytest.approx(tw.FINAL_TIMEOUT_S, abs=2 * PERIOD_S)
+    assert all(s.phase == PLAY for t, s in steps if play_t <= t < stop_t)  # the last pose
+    assert stop.opmodes == {'R': LIMP}
+    assert core.why == ('puppet arm R did not reach the last recorded pose within 0.05 rad '
+                        '4.0 s after the last setpoints: joint 5 0.06 rad from it at 1.00 V')
+    assert core.outcome('R') == 'puppet arm R went limp'
+
+
+def test_a_puppet_that_never_moves_and_reports_no_voltages_is_not_finished():
+    core = ready(ramp(rise_rad=1.0))
+    core.start(0.0)
+    steps = run(core, 0.0, 10.0, follow=False)       # no voltages: only the end is watched
+    assert not any(s.phase == FINISHED for _, s in steps)
+    assert core.phase == STOPPED and 'joint 3 1.00 rad from it at an unknown voltage' in core.why
+
+
+def test_only_the_side_that_does_not_follow_goes_limp_the_other_holds():
+    paths = dict(ramp(rise_rad=1.0), L=ramp(rise_rad=1.0)['R'])
+    core = pp.PuppetPlayback(paths, period_s=PERIOD_S)
+    for side in 'LR':
+        core.on_puppet(0.0, side, START)
+        for joint in settings.JOINTS:
+            core.on_status(0.0, side, joint, WORKING)
+    core.start(0.0)
+    t, sent = 0.0, {}
+    while core.phase != STOPPED:
+        t += PERIOD_S
+        step = core.step(t)
+        sent.update(step.setpoints)
+        core.on_puppet(t, 'L', sent['L'], [0.5] * 7)           # L follows
+        core.on_puppet(t, 'R', START, [7.2] * 7)               # R is held
+    step = core.step(t + PERIOD_S)
+    assert step == pp.Step(STOPPED, {'L': sent['L']}, {'R': LIMP})
+    assert core.outcome('L') == 'puppet arm L holds where it is'
+    assert core.outcome('R') == 'puppet arm R went limp'
+
+
+def test_the_guis_replay_box_shows_the_tracking_stop_in_the_players_words():
+    core = ready(ramp(rise_rad=1.0))
+    core.start(0.0)
+    hold_back(core, 0.0, 4.0, START, [-7.2] * 7)
+    line = 'replay: stopped: %s; %s\n' % (core.why, core.outcome('R'))  # as puppet_player says
+    shown = replay_control.exit_text(1, replay_control.state_from_line(line))
+    assert shown == ('stopped: puppet arm R does not follow: joint 3 0.80 rad from its setpoint '
+                     'for 1.0 s at -7.20 V (saturated); puppet arm R went limp (exit 1: stopped '
+                     'by a stop rule)')

@@ -226,7 +226,7 @@ def assert_never_into(guard, sent):
             assert guard.clearance(q).min() > 0.0, 'a sent motion enters a zone at %s' % q
 
 
-def test_an_episode_into_a_zone_stops_before_it_unsent_naming_zone_link_and_arm():
+def test_an_episode_into_a_zone_waits_at_it_then_stops_naming_zone_link_and_arm():
     guard = zones.ZoneGuard(capsules('right'), [zone_on_the_ramp()])
     assert guard.clearance(START).min() > 0.05
     unguarded = guarded_run(ramp_path(), START, None)[2]   # without the guard: into the zone
@@ -240,8 +240,11 @@ def test_an_episode_into_a_zone_stops_before_it_unsent_naming_zone_link_and_arm(
     assert guard.clearance(sent[-1]).min() < 0.01           # ... at the zone, not before
     assert_never_into(guard, sent)
     assert steps[-1].commands['right'] == sent[-1] and steps[-1].grips == []
-    played = len([s for s in steps if s.phase == replay.PLAY])
-    assert sent[1:played + 2] == unguarded[1:played + 2]   # unchanged up to the zone
+    first_held = next(i for i, (a, b) in enumerate(zip(sent, unguarded)) if a != b)
+    assert replay.PLAY in [s.phase for s in steps[:first_held]]   # unchanged up to the zone
+    waited = sent[-int(replay.ZONE_WAIT_S / PERIOD_S):]   # then it waited at the zone, and
+    assert len(sent) - 1 - first_held >= len(waited)      # stopped after ZONE_WAIT_S there
+    assert max(guard.clearance(q).min() for q in waited) < 0.01
 
 
 def test_a_stay_command_does_not_lead_into_a_zone_either():
@@ -289,3 +292,13 @@ def test_an_arm_without_a_guard_is_not_checked():
     core, steps, sent = guarded_run(ramp_path(), START, {'left': guard})
     assert core.phase == replay.FINISHED and core.guards == {}
     assert sent == guarded_run(ramp_path(), START, None)[2]
+
+
+def test_baxter_s_pose_counts_from_when_it_was_measured():
+    core, _ = started(ramp_path())
+    core.on_robot_pose(1.0, {'right': START}, age_s=0.05)
+    assert core.robot.measured('right')[0] == pytest.approx(0.95)
+    core.on_robot_pose(2.0, {'right': START}, age_s=-0.3)   # a stamp ahead: a clock apart
+    assert core.robot.measured('right')[0] == 2.0
+    core.on_robot_pose(3.0, {'right': START}, age_s=5.0)    # ... or behind: counted at most
+    assert core.robot.measured('right')[0] == pytest.approx(3.0 - replay.MAX_POSE_AGE_S)

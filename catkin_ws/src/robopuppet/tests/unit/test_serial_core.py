@@ -89,7 +89,7 @@ def test_no_joint_states_until_the_stored_settings_are_loaded_after_the_connect(
     rig.settle()
     assert rig.take()[-1] == codec.Opmode(codec.LIMP)
     assert of_type(rig.feed(set_bytes(0.75), 0.1), out.JointStates) == [
-        out.JointStates((0.75,) * 7, (1.0,) * 7)]
+        out.JointStates((0.75,) * 7, (1.0,) * 7, settings.angle_tag(dict(STORED)))]
 
 
 def test_a_set_begun_before_a_reconnect_is_never_published():

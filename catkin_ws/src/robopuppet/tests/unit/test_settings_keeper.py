@@ -138,3 +138,32 @@ def test_a_failed_write_changes_nothing_and_the_next_good_request_starts_from_th
     assert answer.stored and store.revision == 1
     on_disk, _ = config_store.parse(disk.writes[0])
     assert on_disk[0]['pid_kp'] == 0.0 and on_disk[0]['pid_ki'] == 0.5
+
+
+FROZEN = "Baxter's right arm follows this puppet: stop following first: press 3"
+
+
+@pytest.mark.parametrize('name, value', [
+    ('home_angle', 0.5), ('sign_angle', -1.0), ('angle_min', -1.0), ('angle_max', 1.0),
+    ('velocity_min', -1.0), ('velocity_max', 1.0)])
+def test_a_change_of_what_the_angles_mean_is_refused_while_an_arm_follows(name, value):
+    store, disk = keeper()
+    answer = store.request(2, ['pid_kp', name], [1.0, value], frozen=FROZEN)
+    assert not answer.stored and not answer.written and not answer.persistence
+    assert answer.error == "joint 2 %s changes what the puppet's angles mean, and %s" % (
+        name, FROZEN)
+    assert answer.values == config_store.defaults()[2]   # pid_kp not stored either: all or none
+    assert disk.writes == [] and store.revision == 0
+    assert store.request(2, [name], [value]).stored   # once nothing follows
+
+
+def test_while_an_arm_follows_other_settings_and_unchanged_values_are_stored():
+    store, disk = keeper()
+    names = [n for n in settings.NAMES if n not in settings.ANGLE_SETTINGS]
+    values = [-2.0, 2.0, 3.0, 0.1, 0.2, -1.0]
+    assert names == ['voltage_min', 'voltage_max', 'pid_kp', 'pid_ki', 'pid_kd', 'sign_motor']
+    answer = store.request(4, names + ['home_angle', 'sign_angle'], values + [0.0, 1.0],
+                           frozen=FROZEN)
+    assert answer.stored and answer.written and store.revision == 1
+    answer = store.request(4, ['home_angle', 'sign_angle'], [0.5, -1.0], frozen=FROZEN)
+    assert answer.error.startswith('joint 4 home_angle and sign_angle change what')

@@ -88,3 +88,10 @@ def test_heartbeats_come_out_in_order_whatever_the_load():
 def test_the_topic_period_must_be_positive():
     with pytest.raises(ValueError):
         out.StateOutput(0.0)
+
+
+def test_joint_states_carry_the_angle_tag_they_are_given():
+    output = out.StateOutput(PERIOD_S)
+    outputs = output.on_events([state(1.0)], 1.01, 0.5, 'angle_settings:0123abcd')
+    assert [o.angle_tag for o in of_type(outputs, out.JointStates)] == ['angle_settings:0123abcd']
+    assert of_type(output.on_events([state(1.1)], 1.11, 0.5), out.JointStates)[0].angle_tag == ''

@@ -482,3 +482,37 @@ def test_a_stop_commands_where_the_moving_arm_is_now_not_where_it_was_measured()
         expected = [a + (v if abs(v) < 1.0 else 0.0) * expected_s
                     for a, v in zip(NEUTRAL['right'], speeds)]
         assert step.commands == {'right': pytest.approx(expected)}, (speeds, age_s)
+
+
+@pytest.mark.parametrize('side, button', [('right', BUTTON_RIGHT), ('left', BUTTON_LEFT)])
+def test_no_stay_command_goes_to_a_baxter_that_is_absent_or_disabled(side, button):
+    """Baxter goes absent or disabled while an arm follows: its pose may be stale, so the step
+    that stops following commands nothing; a puppet fault with Baxter there commands the stay."""
+    rig = enter(READY)
+    rig.press(button)
+    assert rig.tp.following[side] and rig.step().commands
+    rig.robot(enabled=False)
+    step = rig.step()
+    assert rig.tp.state == NO_ROBOT and not rig.tp.following[side]
+    assert step.commands == {}
+    rig = enter(READY)
+    rig.press(button)
+    step = rig.step(1.0, feed=False)   # the puppet falls silent; Baxter is there
+    assert rig.tp.state == FAULT
+    assert step.commands == {side: pytest.approx(NEUTRAL[side])}
+
+
+def test_after_a_fault_joint_states_alone_do_not_end_it_a_heartbeat_since_must_come_too():
+    """The puppet's joint states stop (a fault) while its 1 Hz heartbeat is still recent; when
+    they come back, the fault ends ("puppet data is back") only with a heartbeat after it."""
+    rig = enter(FOLLOWING)
+    rig.step(STATE_TIMEOUT_S + 0.1, feed=False)
+    assert rig.tp.state == FAULT and 'no joint states' in rig.tp.detail
+    for _ in range(10):   # joint states at 10 Hz again, the next heartbeat not yet
+        rig.t += 0.1
+        rig.feed(heartbeat=False)
+        rig.tp.step(rig.t)
+        assert rig.tp.state == FAULT and 'puppet data is back' not in rig.tp.detail
+    rig.tp.on_heartbeat(rig.t)
+    rig.step(feed=False)
+    assert rig.tp.state == READY

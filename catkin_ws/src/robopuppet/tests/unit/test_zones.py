@@ -414,8 +414,119 @@ def test_from_inside_a_zone_only_motions_that_do_not_go_deeper_pass():
     q_out, hit = checker.limit(q_from, out)
     assert list(q_out) == list(out) and hit is None
     assert checker.limit(q_from, q_from) == (list(q_from), None)   # staying is allowed
+    q_out, hit = checker.limit_box(q_from, q_from, q_from, deeper)   # the same for a box
+    assert list(q_out) == list(q_from) and hit.zone == 'new box'
+    q_out, _ = checker.limit_box(q_from, q_from, q_from, out)
+    assert checker.clearance(q_out).min() > checker.clearance(q_from).min()
 
 
 def test_without_zones_every_command_passes():
     checker = guard('right', [])
     assert checker.limit([0.0] * 7, [1.0] * 7) == ([1.0] * 7, None)
+
+
+# ---- the box of Baxter's motion (limit_box) --------------------------------------------------
+
+def _box_samples(rng, lo, hi, count):
+    """Return (128 + count, 7) configurations of the box lo..hi: every corner, then random."""
+    corners = np.array(np.meshgrid(*zip(lo, hi), indexing='ij')).reshape(7, -1).T
+    return np.vstack([corners, rng.uniform(lo, hi, size=(count, 7))])
+
+
+@pytest.mark.parametrize('side, seed', [('left', 31), ('right', 32)])
+def test_a_returned_command_keeps_the_whole_box_of_the_lagging_arm_out_of_the_zones(side, seed):
+    """1,000 commands per arm near zones, Baxter anywhere up to 0.1 rad per joint behind the
+    last command: the box between where it can be and the returned command, sampled at its
+    128 corners and 64 random points, is outside every zone (brute force)."""
+    rng = np.random.default_rng(seed)
+    checker, brute = guard(side), BruteForce(side)
+    lower, upper = limits(side)
+    passed = held = moved = 0
+    for q_from, q_to, opening in _random_motions(side, rng, 1000, np.array([0.03] * 4 +
+                                                                           [0.08] * 3), 0.08):
+        behind = np.clip(q_from - rng.uniform(-1.0, 1.0, 7) * rng.uniform(0.0, 0.1),
+                         lower, upper)
+        if brute.least(behind[None], TEST_ZONES, opening)[0] <= zones.NEAR_M:
+            continue   # Baxter itself must have been outside the zones
+        lo, hi = np.minimum(behind, q_from), np.maximum(behind, q_from)
+        q_out, hit = checker.limit_box(lo, hi, q_from, q_to)
+        if hit is None:
+            passed += 1
+            assert list(q_out) == list(q_to)
+        else:
+            held += 1
+            moved += list(q_out) != list(q_from)
+            assert hit.zone in checker.names and hit.link in checker.capsules.links
+        if list(q_out) == list(q_from):
+            continue   # the same target as before: proven when it was sent
+        box = _box_samples(rng, np.minimum(lo, q_out), np.maximum(hi, q_out), 64)
+        worst = brute.least(box, TEST_ZONES, opening).min()
+        assert worst > 0.0, (worst, behind, q_from, q_to, q_out)
+    assert passed > 100 and held > 100 and moved > 20   # all three cases were met
+
+
+def test_a_lagging_arm_near_a_zone_waits_where_the_commands_alone_would_pass():
+    side = 'left'
+    q_from = _pose_above_head(side)
+    head = zones.load_zones(ZONES_FILE)[:1]
+    checker = guard(side, head)
+    lower, upper = limits(side)
+    toward = _moving_tip(side, q_from, (0.0, 0.0, -0.1))   # gripper 10 cm down, to 2 cm above
+    q_to = np.clip(q_from + 0.01 * toward / np.abs(toward).max(), lower, upper)
+    assert checker.limit(q_from, q_to) == (list(q_to), None)   # the commands' own motion: clear
+    behind = np.clip(q_from - 0.25 * toward / np.abs(toward).max(), lower, upper)
+    box = np.minimum(behind, q_from), np.maximum(behind, q_from)
+    q_out, hit = checker.limit_box(*box, q_from, q_to)
+    assert hit.zone == 'patient head' and list(q_out) != list(q_to)   # lagging: it waits
+    q_out, hit = checker.limit_box(q_from, q_from, q_from, q_to)      # caught up: it goes
+    assert (q_out, hit) == (list(q_to), None)
+
+
+def _tangent_wall(side, q_from, q_to):
+    """Return a box zone that a turn of joint 0 from q_from to q_to passes at its middle: its
+    face is perpendicular to the direction, from joint 0's axis, of the arm's outermost capsule
+    point there, and the arm's least clearance from it at q_from is 0.5 mm."""
+    q_mid = (np.asarray(q_from) + q_to) / 2.0
+    arm = guard(side, []).capsules
+    ends = arm.segments([q_mid])[0]                               # (C, 3, 2)
+    mount = DESCRIPTION.transform({}, '%s_arm_mount' % side)[:3, 3]
+    radial = ends - mount[:, None]
+    radial[:, 2] = 0.0                                            # joint 0 turns about z
+    outer = np.linalg.norm(radial, axis=1) + arm.radii[:, None]   # (C, 2)
+    c, e = np.unravel_index(np.argmax(outer), outer.shape)
+    normal = radial[c, :, e] / np.linalg.norm(radial[c, :, e])
+    wall = shapes.parse_shape({'name': 'wall', 'type': 'box', 'size': [0.3, 0.3, 0.3],
+                               'xyz': list(ends[c, :, e] + normal * 0.2),
+                               'rpy': [0.0, 0.0, float(np.arctan2(normal[1], normal[0]))]})
+    gap = guard(side, [wall]).clearance(q_from).min()
+    return wall._replace(xyz=tuple(np.add(wall.xyz, -normal * (gap - 0.0005))))
+
+
+def test_a_motion_from_just_outside_a_zone_never_dips_into_it():
+    """The arm 0.5 mm outside a wall (nearer than the margin) turns joint 0 along it: the tip's
+    arc bulges 0.3 mm into the wall and ends farther out than it started. Each guard keeps it
+    out (the floor of a pair near a zone may lie below its start, never below 0)."""
+    side, alpha = 'left', 0.03
+    q_mid = _pose_above_head(side)
+    q_from = q_mid - np.eye(7)[0] * alpha
+    checker = guard(side, [_tangent_wall(side, q_from, q_mid + np.eye(7)[0] * alpha)])
+    path = lambda a, b: a + np.linspace(0.0, 1.0, 400)[:, None] * np.subtract(b, a)
+    turns = path(q_from, q_from + np.eye(7)[0] * 4 * alpha)
+    gaps = np.array([checker.clearance(q).min() for q in turns])
+    deepest = int(np.argmin(gaps))
+    q_to = turns[deepest + np.argmax(gaps[deepest:] > gaps[0] + 0.0001)]   # out again
+    assert 0.0 < gaps[0] < zones.SLACK_M and -zones.SLACK_M / 2 < gaps.min() < -0.0002
+    for q_out, _ in (checker.limit(q_from, q_to), checker.limit_box(q_from, q_from, q_from,
+                                                                   q_to)):
+        assert min(checker.clearance(q).min() for q in path(q_from, q_out)) >= 0.0
+
+
+def test_the_floor_keeps_a_pair_out_of_a_zone_it_starts_outside():
+    start = np.array([[0.05, zones.NEAR_M + 1e-6, zones.NEAR_M - 1e-6, zones.SLACK_M / 2,
+                       1e-9, 0.0, -0.003]])
+    near, floor = zones.floors(start)
+    assert near.tolist() == [[False, False, True, True, True, True, True]]
+    np.testing.assert_allclose(floor, [[zones.MARGIN_M, zones.MARGIN_M,
+                                        zones.NEAR_M - 1e-6 - zones.SLACK_M,
+                                        0.0, 0.0,                  # never into it from outside
+                                        -zones.SLACK_M, -0.003 - zones.SLACK_M]])

@@ -15,7 +15,7 @@ from robopuppet import baxter_description, interface as ifc, params, settings
 from robopuppet.arm import (baxter_upkeep, controller, link_topics, opmode as puppet_mode,
                             timing, zone_topics)
 from robopuppet.periodic import Guard, Loop
-from robopuppet_msgs.msg import TeleopState
+from robopuppet_msgs.msg import ArmSettings, TeleopState
 
 MIN_COMMAND_RATE_HZ = 10.0   # Baxter drops a position command after 0.2 s; keep well inside it
 WATCHDOG_PERIOD_S = 0.05     # the watchdog thread checks the command loop this often
@@ -36,8 +36,11 @@ class ArmNode:
       Subscribes: <ns>/joint_states (by name joint_0..joint_6), <ns>/joint_J/enc_stat,
         <ns>/heartbeat, <ns>/user_btn (button 1 cycles the opmode limp -> hold -> feel -> limp),
         <ns>/gripper_3 (the end-piece button), <ns>/opmode (std_msgs/String: the opmode others
-        set, adopted; its own messages and repeats change nothing), the other puppet's
-        teleop_state, /robot/state, /robot/joint_states, /robot/end_effector/<side>_gripper/state.
+        set, adopted; its own messages and repeats change nothing), <ns>/stored_settings
+        (config_X's, latched: a change of an angle setting stops following; a joint_states
+        tagged in header.frame_id with other angle settings is not followed, see
+        arm.angle_settings), the other puppet's teleop_state, /robot/state,
+        /robot/joint_states, /robot/end_effector/<side>_gripper/state.
       Publishes: /robot/limb/<side>/joint_command (position mode), /robot/set_super_enable,
         /robot/end_effector/<side>_gripper/command, <ns>/opmode (limp, hold, feel),
         <ns>/joint_J/setpoint (std_msgs/Float32, rad: Baxter's pose on entering hold; in feel
@@ -108,6 +111,8 @@ class ArmNode:
                 lambda m, j=j: call(core.on_status, j, m.data))
         sub(ns + '/' + ifc.JOINT_STATES, JointState, lambda m: call(  # received: before the lock
             self._on_joint_states, m, link_topics.ros_now_s()), tcp_nodelay=True)
+        sub(ns + '/' + ifc.STORED_SETTINGS, ArmSettings,
+            lambda m: call(self._on_stored_settings, m))
         sub(ns + '/' + ifc.HEARTBEAT, Empty, lambda m: call(tp.on_heartbeat))
         sub(ns + '/' + ifc.OPMODE, String, lambda m: self._on_opmode(m, ns + '/' + ifc.OPMODE))
         sub(ns + '/' + ifc.USER_BUTTON, UInt8, lambda m: call(tp.on_button, m.data))
@@ -139,11 +144,20 @@ class ArmNode:
 
     def _on_joint_states(self, now, msg, received_s):
         taken, problem = self._core.on_joint_states(now, msg.name, msg.position,
-                                                    msg.header.stamp.to_sec(), received_s)
+                                                    msg.header.stamp.to_sec(), received_s,
+                                                    msg.header.frame_id)
         if problem:
             rospy.logwarn_throttle(5, '%s: %s', self._name, problem)
         if taken:  # act on fresh data at once
             self._guard.call('step on joint states', self._step, now)
+
+    def _on_stored_settings(self, now, msg):
+        news = self._core.on_stored_settings(now, [(j.joint, {n: getattr(j, n) for n in (
+            settings.ANGLE_SETTINGS)}) for j in msg.joints])
+        if news:
+            rospy.logwarn('%s: %s (revision %d from %s)', self._name, news, msg.revision,
+                          msg._connection_header.get('callerid'))
+            self._guard.call('step on stored settings', self._step, now)
 
     def _on_opmode(self, msg, topic):
         """Adopt the opmode others set; this node's own messages come back here too: skipped."""

@@ -58,6 +58,14 @@ class BaxterWatch:
             return None
         return t - self._motion[side][0]
 
+    def measured(self, side):
+        """Return (measured at s, 7 angles rad, 7 velocities rad/s) of Baxter's arm on `side`,
+        the newest believable measurement (None when none came)."""
+        if side not in self.pose:
+            return None
+        measured_t, speeds = self._motion[side]
+        return measured_t, list(self.pose[side]), list(speeds)
+
     def now(self, side, t):
         """Return where Baxter's arm on `side` is at time t, within its limits, or None if unknown.
 

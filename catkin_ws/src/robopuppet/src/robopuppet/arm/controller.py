@@ -3,9 +3,10 @@ carries out what it returns (time in s is an argument, no rospy, no messages).
 
 It holds the teleop state machine (robopuppet.arm.teleop), Baxter's upkeep (presence, enabling,
 gripper calibration: robopuppet.arm.baxter_upkeep), the operator-robot link (pings, echoes, the
-age of each puppet sample: robopuppet.arm.link_watch), the puppet's encoder statuses, the pace of
-the command stream, the command loop's health and the teleop report (teleop_state and
-/diagnostics).
+age of each puppet sample: robopuppet.arm.link_watch), what the puppet's angles mean (the
+stored angle settings and each sample's tag: robopuppet.arm.angle_settings), the puppet's
+encoder statuses, the pace of the command stream, the command loop's health and the teleop
+report (teleop_state and /diagnostics).
 
 Two clocks: `t` (monotonic s) paces teleop; `now_s` (the robot host's ROS clock, s) is the one
 pings carry and puppet samples are aged on.
@@ -14,8 +15,8 @@ import collections
 import reprlib
 
 from robopuppet import baxter_description, settings
+from robopuppet.arm.angle_settings import AngleSettingsWatch, describe
 from robopuppet.arm.baxter_upkeep import BaxterUpkeep
-from robopuppet.arm.baxter_watch import MAX_EXTRAPOLATION_S
 from robopuppet.arm.link_clock import Refused
 from robopuppet.arm.link_watch import LATE, STALE_KINDS, LinkWatch
 from robopuppet.arm.readings import arm_poses, joint_angles, non_finite_joints
@@ -67,6 +68,7 @@ class ArmController:
                              command_period_s=command_period_s, zone_guards=zone_guards)
         self.baxter = BaxterUpkeep()
         self.link = LinkWatch(side, age_bound, timing.timeout_s)
+        self.angle_settings = AngleSettingsWatch()
         self.timing = timing
         self.command_period_s = command_period_s
         self.guard = guard
@@ -87,9 +89,10 @@ class ArmController:
         show it: a 10^5-character garbage status would otherwise go into every teleop_state."""
         self._statuses[joint] = status if status in ENC_STATUS else reprlib.repr(status)
 
-    def on_joint_states(self, t, names, positions, stamp_s, now_s):
+    def on_joint_states(self, t, names, positions, stamp_s, now_s, tag=''):
         """Take the puppet's joint states, stamped stamp_s (operator clock) and received at
-        now_s (robot clock); return (taken, a warning to log or '').
+        now_s (robot clock), tagged `tag` (header.frame_id: the angle settings they were made
+        with, see angle_settings); return (taken, a warning to log or '').
 
         A message without joint_0..joint_6 is refused (not taken) and counted; so is one that
         link_watch does not let through (of unknown age: the stream is stale, which teleop takes
@@ -114,6 +117,11 @@ class ArmController:
                     self.link.refused[LATE], refusal)
             return False, 'puppet joint_states refused (%d %s so far): %s' % (
                 self.link.refused[refusal.kind], refusal.kind, refusal)
+        other_meaning = self.angle_settings.refusal(tag)
+        if other_meaning:
+            self.teleop.on_refused(t, other_meaning)
+            return False, 'puppet joint_states refused (%d for their angle settings so far): ' \
+                '%s' % (self.angle_settings.refused, other_meaning)
         self.teleop.on_joint_states(t, list(self._statuses), angles)
         bad = non_finite_joints(angles)
         notes = ['puppet joint_states with non-finite %s: each such joint keeps its last valid '
@@ -125,13 +133,25 @@ class ArmController:
         return True, '; '.join(notes)
 
     def on_robot_joints(self, t, names, positions, velocities, age_s):
-        """Take Baxter's joint states, received at t and measured age_s (s) earlier (an age
-        below 0 or beyond what a stop may extrapolate is not believed: taken as 0)."""
-        if not 0.0 <= age_s <= MAX_EXTRAPOLATION_S:
-            age_s = 0.0
+        """Take Baxter's joint states, received at t and measured age_s (s) earlier (by their
+        stamp). An age below 0 (a stamp ahead of this host's clock) counts as 0; a larger one is
+        kept: a late pose counts as old (feel refuses one over 1 s old, see opmode), while
+        BaxterWatch.now extrapolates it by at most MAX_EXTRAPOLATION_S."""
         self.baxter.on_robot_joints(t)
         poses, speeds = arm_poses(names, positions, velocities, self.joint_names)
-        self.teleop.on_robot_pose(t - age_s, poses, speeds)
+        self.teleop.on_robot_pose(t - (age_s if age_s > 0.0 else 0.0), poses, speeds)
+
+    def on_stored_settings(self, t, joints):
+        """Take config_X's stored settings, [(joint, {name: value})]; return a line to log, ''
+        when none. A change of an angle setting (the first message is none) stops following."""
+        try:
+            changes = self.angle_settings.on_stored(joints)
+        except ValueError as error:
+            return 'stored_settings ignored: %s' % error
+        if not changes:
+            return ''
+        self.teleop.on_angle_settings(t, describe(changes))
+        return '%s changed in stored_settings: following stops' % describe(changes)
 
     def on_echo(self, t, now_s, seq, sent_s, echoed_s):
         """Take a link echo that arrived at now_s; return '' or why it was ignored (to log)."""
@@ -224,6 +244,7 @@ class ArmController:
             ('ignored_angles', tp.puppet.ignored_angles),
             ('ignored_robot_poses', tp.robot.ignored_poses),
             ('refused_joint_states', self.refused_states),
+            ('refused_for_angle_settings', self.angle_settings.refused),
             ('callback_errors', self.guard.errors), ('last_error', self.guard.last_error)]
         return Report(changed, tp.state, follow_left, follow_right, tp.opmode,
                       tp.heartbeat_age(t), tp.detail, zone_left, zone_right, self.diag_name,

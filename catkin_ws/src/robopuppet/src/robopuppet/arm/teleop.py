@@ -13,9 +13,10 @@ speed (a slow approach when following starts far from the puppet, then at most t
 velocity limit, see joint_motion.SpeedBudget; no speed parameter can exceed the URDF's limit);
 non-finite angles are ignored, and a Baxter pose outside its joint limits is not believed; when
 an arm stops following (the puppet's joint states or heartbeat stop or arrive too old to use, a
-joint loses calibration, a press, the arm controller itself fails) the arm is commanded to stay
-where Baxter measures it at once, so it does not coast on to a stale target, and following
-resumes only after fresh data and a new press; a Baxter arm that the other puppet drives is not
+joint loses calibration, a press, the arm controller itself fails, config_X stores a change of
+what the puppet's angles mean: arm.angle_settings) the arm is commanded to stay where Baxter
+measures it at once, so it does not coast on to a stale target, and following resumes only
+after fresh data and a new press; a Baxter arm that the other puppet drives is not
 taken, and if both puppets claim one at once, both let it go. In feel the puppet goes limp on a
 fault, without Baxter or without a fresh Baxter pose (see robopuppet.arm.opmode).
 """
@@ -62,8 +63,9 @@ class Teleop:
         command_period_s: the nominal time between commands; the speed budget holds this much
             motion, so one command may carry speed x command_period_s at once.
         zone_guards: {side: world.zones.ZoneGuard} of the arms that keep-out zones bind: each
-            command of a following arm is cut where its motion from the last command would
-            enter a zone, and the speed budget goes on from the cut command (see zone_holds).
+            command of a following arm is cut so that Baxter's motion from wherever it can be
+            to the command keeps out of every zone, and the speed budget goes on from the cut
+            command (see zone_holds).
     Joint states that may not be used (too old, of unknown age, out of order) go to on_refused;
     of unknown age (stale=True), the puppet counts as silent until usable ones come; too old
     (late=True), they are dropped, and name the silence when no usable ones come.
@@ -73,11 +75,11 @@ class Teleop:
                  heartbeat_timeout_s=HEARTBEAT_TIMEOUT_S, approach_speed_rad_s=0.5,
                  track_tolerance_rad=0.02, command_period_s=0.01, zone_guards=None):
         self.own_side = BAXTER_SIDE[check_side(puppet_side)]
-        self.zones = ZoneHolds(zone_guards)
-        self.zone_hits = self.zones.hits   # side -> the zone hit holding the arm back, None
         self.limits = limits
         self.puppet = PuppetWatch(state_timeout_s, heartbeat_timeout_s)
         self.robot = BaxterWatch(limits)
+        self.zones = ZoneHolds(zone_guards, self.robot)
+        self.zone_hits = self.zones.hits   # side -> the zone hit holding the arm back, None
         self.approach_speed_rad_s = approach_speed_rad_s
         self.track_tolerance_rad = track_tolerance_rad
         self.command_period_s = command_period_s
@@ -95,6 +97,7 @@ class Teleop:
         self._grip_reading = None
         self._last_step_t = None
         self._failure = None       # why the arm controller failed, until the next step
+        self._new_meaning = ''     # which angle settings changed, until the next step
         # Inputs about the puppet's stream and Baxter's pose go to self.puppet and self.robot.
         self.on_joint_states = self.puppet.on_joint_states
         self.on_refused = self.puppet.on_refused
@@ -134,6 +137,12 @@ class Teleop:
     def on_robot(self, t, enabled):
         """Take whether Baxter is present and enabled."""
         self._robot_ok = enabled
+
+    def on_angle_settings(self, t, what):
+        """Take that config_X stored a change of what the puppet's angles mean (what: e.g.
+        "joint 0's home_angle"): every following arm stops at the next step (told to stay
+        where Baxter is, as on any stop); only a new press follows again, approaching slowly."""
+        self._new_meaning = ', '.join(filter(None, (self._new_meaning, what)))
 
     def on_controller_failed(self, t, why):
         """The arm controller itself failed (its command loop stalls or raises): stop following
@@ -213,6 +222,15 @@ class Teleop:
                                              self.command_period_s, t)
         self._after_follow_change('')
 
+    def _stop_for_new_meaning(self):
+        what, self._new_meaning = self._new_meaning, ''
+        buttons = [str(b) for b, side in sorted(FOLLOW_BUTTON.items()) if self.following[side]]
+        if what and buttons:
+            self.following = {side: False for side in BAXTER_SIDES}
+            self._fire('follow_off', '')
+            self.detail = '%s changed: following stopped; press %s to follow again' % (
+                what, ' and '.join(buttons))
+
     def _drop_contested_arms(self, t):
         """Let go of any arm the other puppet claims too: both stopping is safe, both is not."""
         contested = [s for s in BAXTER_SIDES if self.following[s] and self._claimed(s, t)]
@@ -253,7 +271,7 @@ class Teleop:
                       else min(self.approach_speed_rad_s, lim.velocity)
                       for lim in self.limits[side]]
             before = self._motion[side].command
-            command = self.zones.cut(side, before, self._motion[side].move(target, speeds, t))
+            command = self.zones.cut(side, t, before, self._motion[side].move(target, speeds, t))
             self._motion[side].command = command
             if max(abs(c - g) for c, g in zip(command, target)) <= self.track_tolerance_rad:
                 self.tracking[side] = True
@@ -272,7 +290,7 @@ class Teleop:
         commands = {}
         for side in BAXTER_SIDES:
             if was_following[side] and not self.following[side] and side in self.robot.pose:
-                commands[side] = self.robot.now(side, t)
+                commands[side] = self.zones.stay(side, t, self.robot.now(side, t))
         return commands
 
     def step(self, t):
@@ -284,6 +302,7 @@ class Teleop:
         actions = []
         self._drop_contested_arms(t)
         self._act_on_presses(t, actions)
+        self._stop_for_new_meaning()   # after the presses: no press of this step outlives it
         went_limp = self.puppet_mode.step(t, self.state, self.following, self.puppet.state_t,
                                           actions)
         if went_limp:

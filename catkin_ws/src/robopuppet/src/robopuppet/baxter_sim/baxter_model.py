@@ -4,6 +4,14 @@ Pure: every method that changes with time takes `now_s` (seconds, any monotonic 
 here reads a clock or imports rospy. Joint names and limits come from baxter_description; the
 gripper is robopuppet.baxter_sim.baxter_gripper, the refusals robopuppet.baxter_sim.baxter_refusals,
 the contact with obstacles robopuppet.baxter_sim.baxter_contact.
+
+Position control, the model of Baxter's joint position controller that arm_X's keep-out zones
+rely on (docs/baxter_sim.md, "How the arms move"): in modes 1 and 4 each joint moves on its own,
+from where it is straight toward its current target (clamped to its limits), never past it, at
+most at its speed: mode 1 speed_ratio x its URDF velocity limit (a first-order lag of
+SMOOTHING_TIME_S under that cap), mode 4 the velocity limit. A new target starts a new such move
+from wherever the joint is; no command for command_timeout_s holds the arm where it is. So a
+joint always lies between where it was when its target came and that target.
 """
 import math
 
@@ -143,6 +151,10 @@ class Arm:
         self.efforts = dict(self.torques)
         if self.contact is not None:
             self._touch(old, integrating)
+        if not integrating:   # p + (target - p) can round past target: never past it
+            for name in self.limits:
+                low, high = sorted((old[name], self.targets[name]))
+                self.positions[name] = min(high, max(low, self.positions[name]))
         for name in self.limits:
             self.velocities[name] = (self.positions[name] - old[name]) / dt
         if self.last_command_s is None:
@@ -237,11 +249,13 @@ class BaxterModel:
         self._arm(side).command(mode, list(names), list(values), now_s)
 
     def set_speed_ratio(self, side, ratio):
-        """Set the mode-1 speed as a fraction 0..1 of the velocity limits."""
-        ratio = finite(ratio, 'speed ratio')
-        if not 0.0 <= ratio <= 1.0:
-            raise CommandError('speed ratio must be within 0..1, got %g' % ratio, 'out of range')
-        self._arm(side).speed_ratio = ratio
+        """Set the mode-1 speed as a fraction of the velocity limits, clipped to 0..1 as on
+        Baxter (baxter_interface Limb.set_joint_position_speed).
+
+        Raises:
+            CommandError: a non-finite ratio (the ratio is left as it was).
+        """
+        self._arm(side).speed_ratio = min(1.0, max(0.0, finite(ratio, 'speed ratio')))
 
     def set_command_timeout(self, side, timeout_s):
         """Set how long the arm follows its last command before holding (s, > 0)."""

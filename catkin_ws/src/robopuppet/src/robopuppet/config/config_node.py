@@ -9,8 +9,9 @@ from std_msgs.msg import Float32, String
 
 from robopuppet import interface, settings
 from robopuppet.config import config_file, config_store, feel_profile
+from robopuppet.config.follow_lock import FollowLock
 from robopuppet.config.settings_keeper import SettingsKeeper
-from robopuppet_msgs.msg import ArmSettings, JointSettings
+from robopuppet_msgs.msg import ArmSettings, JointSettings, TeleopState
 from robopuppet_msgs.srv import GetConfig, GetConfigResponse, SetConfig, SetConfigResponse
 
 
@@ -19,9 +20,11 @@ class ConfigNode:
 
     Serves: <ns>/set_config (robopuppet_msgs/SetConfig): some settings of one joint, stored all
         or none (settings_keeper.SettingsKeeper.request: bounds, signs +-1, each minimum <= its
-        maximum after the whole request, the file written atomically); the answer holds what
-        is stored now and, when refused, why. <ns>/get_config (robopuppet_msgs/GetConfig): the
-        twelve settings of a joint; a joint outside 0..6 is a service error naming the range.
+        maximum after the whole request, the file written atomically; no change of what the
+        puppet's angles mean, settings.ANGLE_SETTINGS, while <ns>/teleop_state says a Baxter arm
+        follows: config.follow_lock); the answer holds what is stored now and, when refused,
+        why. <ns>/get_config (robopuppet_msgs/GetConfig): the twelve settings of a joint; a
+        joint outside 0..6 is a service error naming the range.
     Publishes: <ns>/stored_settings (robopuppet_msgs/ArmSettings, latched): all seven joints,
         at start and after every change written to the file; revision counts those changes.
         <ns>/active_settings (robopuppet_msgs/ArmSettings, latched; serial_X loads it into the
@@ -32,6 +35,7 @@ class ConfigNode:
         settings.SETTINGS (the 2020 topics): each message is a one-setting set_config request.
         <ns>/opmode (std_msgs/String: limp, hold or feel): feel selects the feel profile, limp
         and hold the stored one; a repeat of the current mode changes nothing.
+        <ns>/teleop_state (robopuppet_msgs/TeleopState, arm_X's): whether an arm follows.
     Every refusal is logged: a warning for a refused value, an error when the change would not
     persist. While the file cannot be written (read-only directory, full disk at start) every
     request is refused with that reason.
@@ -68,6 +72,7 @@ class ConfigNode:
         self._keeper = SettingsKeeper(loaded.config, loaded.text, loaded.unwritable, path,
                                       config_file.write_atomic)
         self._lock = threading.Lock()  # one request at a time; publishes in revision order
+        self._follow_lock = FollowLock()   # only under self._lock
         self._feel = config_store.parse_feel(loaded.text)[0]
         rospy.loginfo('%s: feel mode gains from %s: %s', self._ns, path, ', '.join(
             '%s = %s' % (n, config_store.format_value(v)) for n, v in self._feel.items()))
@@ -83,6 +88,9 @@ class ConfigNode:
             for joint in settings.JOINTS for name in settings.NAMES]
         self._subscribers.append(rospy.Subscriber('%s/%s' % (self._ns, interface.OPMODE), String,
                                                   self._on_opmode, queue_size=10))
+        self._subscribers.append(rospy.Subscriber(
+            '%s/%s' % (self._ns, interface.TELEOP_STATE), TeleopState, self._on_teleop_state,
+            queue_size=1))
         self._services = [
             rospy.Service('%s/%s' % (self._ns, interface.SET_CONFIG), SetConfig,
                           self._set_config),
@@ -110,7 +118,8 @@ class ConfigNode:
     def _store(self, joint, names, values):
         """Apply a request, publish what is stored if it changed, log the outcome."""
         with self._lock:
-            answer = self._keeper.request(joint, names, values)
+            answer = self._keeper.request(joint, names, values,
+                                          self._follow_lock.why(time.monotonic()))
             revision = self._keeper.revision
             if answer.written:
                 self._publish()
@@ -124,6 +133,11 @@ class ConfigNode:
         elif not answer.stored:
             rospy.logwarn('%s: refused %s; file and settings unchanged', self._ns, answer.error)
         return answer
+
+    def _on_teleop_state(self, msg):
+        with self._lock:
+            self._follow_lock.on_teleop_state(time.monotonic(), msg.follow_left,
+                                              msg.follow_right)
 
     def _on_opmode(self, msg):
         if msg.data not in interface.OPMODES:

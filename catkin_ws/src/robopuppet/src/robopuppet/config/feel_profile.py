@@ -8,10 +8,10 @@ joint's settings, so a crash in feel mode leaves the file right.
 """
 import math
 
-from robopuppet import settings
+from robopuppet import interface, settings
 from robopuppet.float32 import format_value, to_float32
 
-PROFILE = 'feel'  # robopuppet_msgs/ArmSettings.profile of the feel settings ('' = as stored)
+PROFILE = interface.FEEL_PROFILE  # ArmSettings.profile of the feel settings ('': as stored)
 
 # The comment written above a [feel] section that a file did not have yet.
 INTRO = ["# Feel mode's gentle gains, laid over the joints' settings only while the opmode is",

@@ -5,6 +5,7 @@ node passes config_file.write_atomic). Not thread-safe: the caller serialises re
 """
 import collections
 
+from robopuppet import settings
 from robopuppet.config import config_store
 
 Answer = collections.namedtuple('Answer', 'stored error values written persistence')
@@ -59,11 +60,13 @@ class SettingsKeeper:
         """Return (revision, [{name: value} of joint 0, ..., joint 6]), copies."""
         return self._revision, [dict(self._config[j]) for j in sorted(self._config)]
 
-    def request(self, joint, names, values):
+    def request(self, joint, names, values, frozen=''):
         """Store values[i] as setting names[i] of a joint, all of them or none; return an Answer.
 
         Refused, changing nothing: while the file is unwritable; a request that
-        config_store.check_request refuses; a write that fails. A request equal to what is
+        config_store.check_request refuses; a change of a setting of settings.ANGLE_SETTINGS
+        while `frozen` says why they may not change (follow_lock: a Baxter arm follows); a
+        write that fails. A request equal to what is
         stored is stored=True without a write. Otherwise only the option lines of the settings
         that change are rewritten in the text, the file is written and the revision goes up.
         """
@@ -81,6 +84,11 @@ class SettingsKeeper:
         changed = {(joint, name) for name in new if new[name] != old[name]}
         if not changed:
             return Answer(True, '', old, False, False)
+        meaning = [name for name in settings.ANGLE_SETTINGS if (joint, name) in changed]
+        if frozen and meaning:
+            return Answer(False, "joint %d %s change%s what the puppet's angles mean, and %s"
+                          % (joint, ' and '.join(meaning), '' if len(meaning) > 1 else 's',
+                             frozen), old, False, False)
         config = dict(self._config)
         config[joint] = new
         text = config_store.render(self._text, config, only=changed)

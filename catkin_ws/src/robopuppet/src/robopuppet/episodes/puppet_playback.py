@@ -16,11 +16,16 @@ so never a step):
 - play: the recorded angles at episode time (t - play start) x speed, at most play_speed_rad_s
   per joint (and each joint's stored velocity limit), clamped to its angle_min/angle_max (the
   live stored settings, else the recorded range);
-- the end: the puppet holds the last recorded pose.
+- the end: finished once the puppet measures the last setpoints (within
+  tracking_watch.FINAL_TOLERANCE_RAD) and holds the last recorded pose; not there
+  FINAL_TIMEOUT_S after them: stopped, limp.
 Stops (button 1, a stop request, the puppet silent or a joint not Working, someone else's limp):
 the setpoints stay where they are (the last ones sent: no step) and the puppet holds there.
 A side that another node puts limp (the GUI's Limp, arm_X releasing a puppet it held on
 button 1, arm_X's fault) is left limp: it gets no more setpoints.
+The puppet not following (robopuppet.episodes.tracking_watch: far from its setpoints at its
+voltage limit, saturated too long, or the last pose not reached in time) stops the playback
+too, and the sides that broke a rule are put limp (they get no more setpoints); the others hold.
 """
 import collections
 import math
@@ -31,6 +36,7 @@ from robopuppet import settings
 from robopuppet.arm.joint_motion import SpeedBudget, all_finite, clamp
 from robopuppet.episodes.replay import (APPROACH, FINISHED, MAX_SPEED, PLAY, STOPPED,
                                         ReplayError)
+from robopuppet.episodes.tracking_watch import FINAL_TIMEOUT_S, TrackingWatch, voltage_limits
 from robopuppet.interface import (BUTTON_OPMODE, HEARTBEAT_TIMEOUT_S, HOLD, LIMP, UNCALIBRATED,
                                   WORKING)
 
@@ -115,6 +121,9 @@ class PuppetPlayback:
         self.phase, self.why = None, ''
         self.limits, self.limit_source = {}, {}
         self.limp_by = {}            # side -> the node that put it limp during the playback
+        self.let_go = set()          # the sides this playback put limp (they did not follow)
+        self._limp_now = set()       # ... whose limp is still to be sent
+        self._watches, self._final_t = {}, None
         self._angles, self._heard_t, self._stored = {}, {}, {}
         self._statuses = {side: [None] * settings.NUM_JOINTS for side in paths}
         self._budgets, self._start_pose, self._stay = {}, {}, {}
@@ -123,10 +132,17 @@ class PuppetPlayback:
 
     # ---- inputs --------------------------------------------------------------------------
 
-    def on_puppet(self, t, side, angles):
-        """Take a puppet arm's 7 measured angles (rad); non-finite readings are ignored."""
-        if side in self.paths and all_finite(angles):
-            self._angles[side], self._heard_t[side] = list(angles), t
+    def on_puppet(self, t, side, angles, voltages=None):
+        """Take a puppet arm's 7 measured angles (rad) and motor voltages (V; None: unknown);
+        non-finite angles are ignored. A sample that breaks a tracking rule stops."""
+        if side not in self.paths or not all_finite(angles):
+            return
+        self._angles[side], self._heard_t[side] = list(angles), t
+        if self.phase in (APPROACH, PLAY) and side in self._watches:
+            verdict = self._watches[side].on_sample(t, self._budgets[side].command, angles,
+                                                    voltages)
+            if verdict:
+                self._give_up(t, {side: verdict})
 
     def on_status(self, t, side, joint, status):
         """Take a joint's encoder status; one not Working stops a running playback."""
@@ -159,6 +175,13 @@ class PuppetPlayback:
             return
         self.phase, self.why = STOPPED, why
         self._stay = {side: list(budget.command) for side, budget in self._budgets.items()}
+
+    def _give_up(self, t, verdicts):
+        """Stop because the sides of verdicts {side: tracking_watch.Verdict} did not follow:
+        they go limp."""
+        self.stop(t, '; '.join(v.why for _, v in sorted(verdicts.items())))
+        self.let_go |= set(verdicts)
+        self._limp_now |= set(verdicts)
 
     # ---- steps ---------------------------------------------------------------------------
 
@@ -202,6 +225,7 @@ class PuppetPlayback:
             here[side] = list(self._angles[side])
             self._start_pose[side] = clamp(list(path.values[0]), self.limits[side])
             self._budgets[side] = SpeedBudget(here[side], self._period_s, t)
+            self._watches[side] = TrackingWatch(side, voltage_limits(self._stored.get(side)))
         self.phase = APPROACH
         return Step(APPROACH, here, {side: HOLD for side in here})
 
@@ -216,9 +240,14 @@ class PuppetPlayback:
         if self.phase == PLAY:
             return self._play(t)
         if self.phase == STOPPED:
-            return Step(STOPPED, {side: list(stay) for side, stay in self._stay.items()
-                                  if side not in self.limp_by}, {})
+            return self._stopped()
         return Step(self.phase, {}, {})
+
+    def _stopped(self):
+        limp, self._limp_now = self._limp_now, set()
+        return Step(STOPPED, {side: list(stay) for side, stay in self._stay.items()
+                              if side not in self.limp_by and side not in self.let_go},
+                    {side: LIMP for side in sorted(limp)})
 
     def progress(self):
         """Return (episode seconds played, the episode's duration s)."""
@@ -228,8 +257,11 @@ class PuppetPlayback:
         """Return what the puppet arm on side does now the playback is over, in words."""
         if side in self.limp_by:
             return 'puppet arm %s is limp (put limp by %s)' % (side, self.limp_by[side])
+        if side in self.let_go:
+            return 'puppet arm %s went limp' % side
         if self.phase == FINISHED:
-            return 'puppet arm %s holds the last recorded pose' % side
+            return 'puppet arm %s holds the last recorded pose (measured within %.2f rad)' % (
+                side, self._watches[side].distance(self._budgets[side].command))
         return 'puppet arm %s holds where it is' % side
 
     def _approach(self, t):
@@ -255,5 +287,12 @@ class PuppetPlayback:
                 target, [lim.velocity for lim in self.limits[side]], t)
             arrived = arrived and setpoints[side] == target
         if self._episode_s >= self.end_s and arrived:
-            self.phase = FINISHED
+            self._final_t = t if self._final_t is None else self._final_t
+            if all(self._watches[s].reached(setpoints[s], self._final_t) for s in setpoints):
+                self.phase = FINISHED
+            elif t - self._final_t >= FINAL_TIMEOUT_S:
+                self._give_up(t, {s: self._watches[s].not_reached(
+                    setpoints[s], t - self._final_t) for s in setpoints
+                    if not self._watches[s].reached(setpoints[s], self._final_t)})
+                return self._stopped()
         return Step(PLAY, setpoints, {})

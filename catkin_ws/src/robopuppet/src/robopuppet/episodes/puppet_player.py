@@ -26,12 +26,14 @@ SETTINGS_WAIT_S = 1.0  # then this much longer for the latched stored settings
 class PuppetPlayer(Player):
     """Play one episode into the puppet arms of the core's paths; run() returns the exit code.
 
-    Subscribes per played side X (<ns> = /puppet/arm_X): <ns>/joint_states,
+    Subscribes per played side X (<ns> = /puppet/arm_X): <ns>/joint_states (position: the
+    angles rad, effort: the motor voltages V, which the tracking watch reads),
     <ns>/joint_J/enc_stat, <ns>/user_btn, <ns>/opmode (another node's limp ends the playback),
-    <ns>/stored_settings (robopuppet_msgs/ArmSettings, latched: the angle and speed limits);
-    interface.REPLAY_STOP (std_msgs/Empty).
+    <ns>/stored_settings (robopuppet_msgs/ArmSettings, latched: the angle, speed and voltage
+    limits); interface.REPLAY_STOP (std_msgs/Empty).
     Publishes per side: <ns>/joint_J/setpoint (std_msgs/Float32, rad, RATE_HZ) and <ns>/opmode
-    (std_msgs/String: hold at the start, after seven setpoints).
+    (std_msgs/String: hold at the start, after seven setpoints; limp when the side does not
+    follow, robopuppet.episodes.tracking_watch).
     """
 
     def __init__(self, core, say):
@@ -59,9 +61,14 @@ class PuppetPlayer(Player):
 
     def _on_states(self, msg, side):
         try:
-            self._call(self.core.on_puppet, side, joint_angles(msg.name, msg.position))
+            angles = joint_angles(msg.name, msg.position)
         except ValueError:
-            pass  # not the puppet's seven joints: no reading of where it is
+            return  # not the puppet's seven joints: no reading of where it is
+        try:
+            voltages = joint_angles(msg.name, msg.effort)  # matched by name as the angles
+        except ValueError:
+            voltages = None  # no motor voltages: the tracking watch cannot see saturation
+        self._call(self.core.on_puppet, side, angles, voltages)
 
     def _on_opmode(self, msg, side):
         sender = msg._connection_header.get('callerid', '?')

@@ -13,17 +13,19 @@ disabled, the puppet starts following, a keep-out zone) each replayed arm is com
 where Baxter measures it, at once.
 
 Keep-out zones (docs/zones.md), as arm_X keeps them for teleoperation: every command of an arm
-with a guard (world.zones.ZoneGuard), on the approach and in play, is checked along its whole
-motion from the last command sent to that arm (ZoneGuard.limit). A command the guard would cut
-is not sent: the replay stops (a recorded demonstration is not bent into another motion, and
-the nurse learns why), naming the zone, the link and the arm, and whether it was on the way to
-the start pose. A guarded arm's stay command is itself checked from the last command sent: it
-is where Baxter measures the arm, or as near to that as the motion there is proven clear.
+with a guard (world.zones.ZoneGuard), on the approach and in play, is checked for Baxter's
+motion from wherever it can be (arm.arm_reach: its measured pose and the commands on their way)
+to the command (ZoneGuard.limit_box). A command the guard holds back goes out only as far along
+its step as is proven clear and the episode's clock waits (Baxter lagging near a zone catches
+up; the recorded path is not bent, only slowed); held for ZONE_WAIT_S, the replay stops, naming
+the zone, the link and the arm, and whether it was on the way to the start pose. A guarded
+arm's stay command is where Baxter measures the arm, moved into the box where it can be.
 """
 import collections
 
 import numpy as np
 
+from robopuppet.arm.arm_reach import ArmReach
 from robopuppet.arm.baxter_watch import BaxterWatch
 from robopuppet.arm.joint_motion import SpeedBudget, all_finite, clamp
 from robopuppet.interface import BUTTON_OPMODE
@@ -33,6 +35,12 @@ APPROACH_SPEED_RAD_S = 0.3      # joint speed on the way to the start pose (capp
 APPROACH_TOLERANCE_RAD = 0.02   # measured this close to the start pose: the episode plays
 SETTLE_TIMEOUT_S = 3.0          # ... or this long after the command reached the start pose
 PUPPET_MOVED_RAD = 0.1          # a puppet joint moved this far since the start stops the replay
+ZONE_WAIT_S = 2.0               # a keep-out zone holding an arm back this long stops the replay
+# The replay may run on the operator host (the GUI starts it there), its commands and Baxter's
+# joint states crossing the link to the robot room: a command may reach Baxter this late, and a
+# joint state's age (from its stamp, on another host's clock) counts at most MAX_POSE_AGE_S.
+COMMAND_DELAY_S = 0.3
+MAX_POSE_AGE_S = 0.1
 APPROACH, PLAY, FINISHED, STOPPED = 'approach', 'play', 'finished', 'stopped'
 ZONE_CUT = "keep-out zone '%s': %s of the %s arm would enter it"   # zone, link, Baxter side
 ON_THE_WAY = ' on the way to the start pose'                       # ... added on the approach
@@ -96,7 +104,8 @@ class Replay:
         puppet_moved_rad: a puppet joint moving further than this from where it was at the
             start stops the replay.
         guards: {Baxter side: world.zones.ZoneGuard} of the arms keep-out zones bind (None:
-            none); a command whose motion would enter a zone stops the replay unsent.
+            none); a command whose motion is not proven clear waits, and stops the replay when
+            it waits for ZONE_WAIT_S.
     Raises:
         ReplayError: the speed is out of range.
     """
@@ -115,15 +124,18 @@ class Replay:
         self.phase, self.why = None, ''
         self._puppet, self._puppet_start = {}, {}
         self.guards = {side: guard for side, guard in (guards or {}).items() if side in paths}
+        self._reach = {side: ArmReach(COMMAND_DELAY_S) for side in self.guards}
         self._budgets, self._stay, self._start_pose, self._sent = {}, {}, {}, {}
-        self._reached_t = self._play_t = None
+        self._reached_t = self._play_t = self._held_t = None
         self._episode_s = self.start_s
 
     # ---- inputs --------------------------------------------------------------------------
 
-    def on_robot_pose(self, t, pose, velocities=None):
-        """Take {side: 7 angles rad} (and velocities rad/s) of Baxter's arms measured at t."""
-        self.robot.on_robot_pose(t, pose, velocities)
+    def on_robot_pose(self, t, pose, velocities=None, age_s=0.0):
+        """Take {side: 7 angles rad} (and velocities rad/s) of Baxter's arms, received at t and
+        measured age_s earlier (by their stamp, counted within 0 .. MAX_POSE_AGE_S: the
+        stamp may come from another host's clock)."""
+        self.robot.on_robot_pose(t - min(max(age_s, 0.0), MAX_POSE_AGE_S), pose, velocities)
 
     def on_robot_enabled(self, t, enabled):
         """Take whether Baxter is enabled (not stopped, no error); disabled stops the replay."""
@@ -161,8 +173,8 @@ class Replay:
         for side, sent in self._sent.items():
             now = self.robot.now(side, t)
             stay = now if now is not None else list(sent)
-            if side in self.guards:   # no stay command leads into a zone either
-                stay = list(self.guards[side].limit(sent, stay)[0])
+            if side in self.guards:   # no stay command leads out of where the arm can be
+                stay = self._reach[side].inside(stay)
             self._stay[side] = stay
 
     # ---- steps ---------------------------------------------------------------------------
@@ -208,7 +220,7 @@ class Replay:
                                                    self._approach_speeds[side], t)
                     for side in sorted(self.paths)}
         if not self._clear_of_zones(t, commands, ON_THE_WAY):
-            return self.step(t)
+            return Step(self.phase, commands, []) if self.phase == APPROACH else self.step(t)
         if all(commands[s] == self._start_pose[s] for s in commands):
             self._reached_t = t if self._reached_t is None else self._reached_t
             measured = {s: self.robot.now(s, t) for s in commands}
@@ -231,8 +243,10 @@ class Replay:
             commands[side] = self._budgets[side].move(
                 target, [lim.velocity for lim in self.limits[side]], t)
             arrived = arrived and commands[side] == target
-        if not self._clear_of_zones(t, commands, ''):
-            return self.step(t)
+        if not self._clear_of_zones(t, commands, ''):   # the episode's clock waits
+            self._episode_s = before
+            self._play_t = t - (before - self.start_s) / self.speed
+            return Step(PLAY, commands, []) if self.phase == PLAY else self.step(t)
         grips = [Grip(side, position) for side in sorted(self.grips)
                  for g_t, position in self.grips[side] if before < g_t <= self._episode_s]
         if self._episode_s >= self.end_s and arrived:
@@ -240,15 +254,33 @@ class Replay:
         return Step(PLAY, commands, grips)
 
     def _clear_of_zones(self, t, commands, where):
-        """Return True and take commands as sent when no guarded arm's motion to its command
-        enters a zone; else stop (naming zone, link, arm and `where`) and return False."""
+        """Return True when every guarded arm's motion to its command is proven clear of the
+        zones; else cut each held arm's command (in commands, and its speed budget) back along
+        its step to what is proven, return False, and stop (naming zone, link, arm and
+        `where`) once some arm has been held for ZONE_WAIT_S. Takes commands as sent."""
+        held = None
         for side in sorted(set(commands) & set(self.guards)):
-            _, hit = self.guards[side].limit(self._sent[side], commands[side])
-            if hit is not None:
-                self.stop(t, ZONE_CUT % (hit.zone, hit.link, side) + where)
+            measured = self.robot.measured(side)
+            box = self._reach[side].where(t, *measured)
+            if box is None:
+                self.stop(t, "Baxter's joint states of the %s arm are %.1f s old: its motion "
+                          'cannot be kept out of the keep-out zones' % (side, t - measured[0]))
                 return False
+            command, hit = self.guards[side].limit_box(*box, self._sent[side], commands[side],
+                                                       slide=False)
+            if hit is not None:
+                commands[side] = self._budgets[side].command = command
+                held = held or (side, hit)
+            self._reach[side].sent(t, command)
         self._sent.update((side, list(command)) for side, command in commands.items())
-        return True
+        if held is None:
+            self._held_t = None
+            return True
+        self._held_t = t if self._held_t is None else self._held_t
+        if t - self._held_t >= ZONE_WAIT_S:
+            side, hit = held
+            self.stop(t, ZONE_CUT % (hit.zone, hit.link, side) + where)
+        return False
 
     def _grip_at(self, side, episode_s):
         """Return the last gripper position (%) commanded at or before episode_s, or None."""

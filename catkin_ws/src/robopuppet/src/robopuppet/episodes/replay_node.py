@@ -82,7 +82,8 @@ class ReplayNode(Player):
 
     def _on_joints(self, msg):
         poses, speeds = arm_poses(msg.name, msg.position, msg.velocity, self._names)
-        self._call(self.core.on_robot_pose, poses, speeds)
+        age_s = (rospy.Time.now() - msg.header.stamp).to_sec() if msg.header.stamp else 0.0
+        self._call(self.core.on_robot_pose, poses, speeds, age_s)
 
     def _on_puppet(self, side, msg):
         try:

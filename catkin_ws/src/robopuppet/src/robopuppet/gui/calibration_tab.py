@@ -21,6 +21,7 @@ from PyQt5 import QtCore, QtWidgets
 
 from robopuppet import interface, settings
 from robopuppet.calibration import motor_check, procedure, solver
+from robopuppet.config import follow_lock
 from robopuppet.gui.config_task import ConfigTask
 from robopuppet.gui.main_tab import GREEN, RED, number, paint
 from robopuppet.gui.pose_figure import PoseFigure
@@ -47,6 +48,7 @@ class CalibrationTab(QtWidgets.QWidget):
         self._press = procedure.EndPiecePress()
         self._task = ConfigTask(self)
         self._readings = [(None, math.nan)] * settings.NUM_JOINTS
+        self._following = ''  # follow_lock.following() of the newest teleop_state ('' none)
         self.instruction = QtWidgets.QLabel('Press Start to calibrate the home angles and signs.')
         self.instruction.setWordWrap(True)
         self.instruction.setStyleSheet('font-size: 15px; font-weight: bold;')
@@ -111,6 +113,9 @@ class CalibrationTab(QtWidgets.QWidget):
     def apply(self):
         """Store the new values, one set_config per joint, off the GUI thread."""
         if self.step != 'review' or self._task.busy():
+            return
+        if self._following:
+            self._say('not applied: %s' % self._following, error=True)
             return
         old = {c.joint: c.old for c in self.changes}
         new = {c.joint: c.new for c in self.changes}
@@ -254,6 +259,12 @@ class CalibrationTab(QtWidgets.QWidget):
     def refresh(self, snap, now_s):
         """Take the latest readings; the end-piece button captures while a pose is awaited."""
         self._readings = [(j.status, j.angle_rad) for j in snap.joints]
+        teleop = snap.teleop
+        following = follow_lock.following(teleop.follow_left, teleop.follow_right) if (
+            teleop and now_s - teleop.received_s <= follow_lock.TELEOP_STALE_S) else ''
+        if following != self._following:
+            self._following = following
+            self._enable()
         pressed = self._press.update(snap.grippers[interface.END_PIECE_GRIPPER])
         if pressed and self.step == 'pose':
             self.capture()
@@ -335,9 +346,15 @@ class CalibrationTab(QtWidgets.QWidget):
         self.buttons['Capture'].setEnabled(self.step == 'pose')
         self.buttons['Retake'].setEnabled(self.step in ('pose', 'review') and not busy
                                           and bool(self.session and self.session.raws))
-        self.buttons['Apply'].setEnabled(self.step == 'review' and not flagged and not busy)
+        # A new home or sign would move a following Baxter arm: config_X refuses it then too.
+        meaning = any(n in settings.ANGLE_SETTINGS for v in self.undo_values.values() for n in v)
+        self.buttons['Apply'].setEnabled(self.step == 'review' and not flagged and not busy
+                                         and not self._following)
+        self.buttons['Apply'].setToolTip(self._following)
         self.buttons['Undo'].setEnabled(bool(self.undo_values) and not busy
-                                        and self.step != 'motors')
+                                        and self.step != 'motors'
+                                        and not (meaning and self._following))
+        self.buttons['Undo'].setToolTip(self._following if meaning else '')
         self.buttons['Check'].setEnabled(not busy and self.step in ('idle', 'review'))
         self.buttons['Motors'].setEnabled(not busy and self.step in ('idle', 'review'))
         self.buttons['Stop'].setEnabled(self.step == 'motors')

@@ -127,20 +127,21 @@ class HoldGate:
         if self._current(epoch):
             self._angles = tuple(angles_rad)
 
-    def plan_hold(self, epoch):
+    def plan_hold(self, epoch, setpoints=()):
         """Return HoldPlan(messages, None) to send for a hold, or (None, why it is refused).
 
-        The messages are a setpoint at the current angle for each joint without a setpoint
-        since the last limp/connect, then the hold opmode.
+        The messages are `setpoints` (codec.JointSetpoint), a setpoint at the current angle for
+        each other joint without a setpoint since the last limp/connect, then the hold opmode.
         """
         self._current(epoch)
-        missing = [j for j in settings.JOINTS if j not in self._sent]
+        given = {m.joint for m in setpoints}
+        missing = [j for j in settings.JOINTS if j not in self._sent and j not in given]
         if missing and self._angles is None:
             return HoldPlan(None, 'no setpoint since the last limp or connect for joints %s and '
                             'no current angles (settings not loaded or no joint state yet); '
                             'the firmware would drive them to 0 rad' % missing)
         messages = [codec.JointSetpoint(j, self._angles[j]) for j in missing]
-        return HoldPlan(messages + [codec.Opmode(codec.HOLD)], None)
+        return HoldPlan(list(setpoints) + messages + [codec.Opmode(codec.HOLD)], None)
 
     def record(self, messages, epoch):
         """These messages were written: note setpoints; a limp zeroes the device's setpoints."""
@@ -151,50 +152,6 @@ class HoldGate:
                 self._sent.add(message.joint)
             elif isinstance(message, codec.Opmode) and message.mode != codec.HOLD:
                 self._sent.clear()
-
-
-class FeelWatch:
-    """Feel mode's setpoint watchdog: feel lasts only while setpoints keep arriving.
-
-    In feel mode arm_X streams the puppet's setpoints from Baxter's measured pose; when they
-    stop (arm_X died, the network to the robot host is cut) the device must not keep holding
-    a stale pose, so serial_X goes limp. Time is an argument; hold is never timed out.
-    """
-
-    def __init__(self, timeout_s):
-        if not timeout_s > 0.0:
-            raise ValueError('the feel setpoint timeout must be positive, got %r' % timeout_s)
-        self._timeout_s = timeout_s
-        self._last_s = None  # the newest setpoint (or the start of feel), None outside feel
-
-    @property
-    def active(self):
-        """True in feel mode."""
-        return self._last_s is not None
-
-    @property
-    def due_s(self):
-        """Return when the watchdog expires without another setpoint (inf outside feel)."""
-        return math.inf if self._last_s is None else self._last_s + self._timeout_s
-
-    def start(self, now_s):
-        """Feel mode starts (the device's hold was sent); a repeat restarts the timer."""
-        self._last_s = now_s
-
-    def stop(self):
-        """Feel mode ends (limp, hold, a reconnect, or the watchdog's own limp)."""
-        self._last_s = None
-
-    def on_setpoint(self, now_s):
-        """A joint setpoint arrived (in any mode; only feel mode counts it)."""
-        if self._last_s is not None:
-            self._last_s = max(self._last_s, now_s)
-
-    def expired(self, now_s):
-        """Return the seconds without a setpoint if feel mode has timed out now, else None."""
-        if self._last_s is None or now_s < self._last_s + self._timeout_s:
-            return None
-        return now_s - self._last_s
 
 
 class RateMeter:

@@ -53,6 +53,9 @@ class DeviceSettings:
             None while the device does not hold stored settings in full.
         epoch: raised at every unload() and after a load's limp frame is written: whenever the
             device may have lost its setpoints (see device_commands.HoldGate).
+        angle_tag: settings.angle_tag of the newest settings whose writing has begun ('' before
+            any): set before a batch's first write, so that every state set read after it (the
+            device may report with the new meaning from then on) carries it.
     """
 
     def __init__(self, write, clock, log_info, log_warn, source,
@@ -71,9 +74,11 @@ class DeviceSettings:
         self.revision = None
         self.loaded_since_s = None
         self.epoch = 0
+        self.angle_tag = ''
 
     def on_stored(self, revision, joints):
-        """Take a new stored state of the settings; a bad one is logged and ignored.
+        """Take a new stored state of the settings; return False when it is bad (logged and
+        ignored).
 
         Args:
             revision: config_X's count of stored changes (for log lines and diagnostics).
@@ -86,8 +91,9 @@ class DeviceSettings:
         if problem:
             self._log_warn('stored settings revision %d from %s ignored: %s'
                            % (revision, self._source, problem))
-            return
+            return False
         self._stored, self.revision, self._dirty = dict(joints), revision, True
+        return True
 
     def unload(self, load=True):
         """The device may hold anything now (a (re)connect, or it talks again after silence):
@@ -101,6 +107,13 @@ class DeviceSettings:
         self._waiting_logged = False
         self.loaded_since_s = None
         self.epoch += 1
+
+    @property
+    def holds_stored(self):
+        """True when the device holds the newest stored settings in full (loaded since the last
+        unload, none left to write)."""
+        return self.loaded_since_s is not None and self._batch is None and all(
+            self._held[j] == self._stored[j] for j in settings.JOINTS)
 
     def held(self, joint):
         """Return a copy of {setting name: value} that the device holds for a joint, as far as
@@ -137,6 +150,7 @@ class DeviceSettings:
             self._dirty = False
             if self._batch is None:
                 return
+            self.angle_tag = settings.angle_tag([self._stored[j] for j in settings.JOINTS])
         batch = self._batch
         written = self._write(batch.writes[batch.sent])
         if self._batch is not batch:

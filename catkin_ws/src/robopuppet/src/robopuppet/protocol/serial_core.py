@@ -11,7 +11,8 @@ import collections
 import reprlib
 
 from robopuppet import interface
-from robopuppet.protocol import codec, device_commands, link_health, state_output, state_set
+from robopuppet.protocol import (codec, device_commands, feel_watch, link_health, state_output,
+                                 state_set)
 from robopuppet.protocol.device_settings import DeviceSettings
 
 DIAGNOSTICS_PERIOD_S = 1.0
@@ -46,8 +47,8 @@ class SerialCore:
         silence_timeout_s: no whole set or heartbeat for this long re-opens the port.
         comm_rate_hz: the state-set rate the firmware is expected to send, 0: no check.
         pause_s: the least time between two settings writes, s.
-        feel_timeout_s: in feel mode, no joint setpoint for this long sends limp (device_commands.
-            FeelWatch).
+        feel_timeout_s: in feel mode, no joint setpoint for this long, or no feel gains on the
+            device this long after the opmode feel, sends limp (feel_watch.FeelWatch).
     Raises:
         ValueError: a rate or timeout out of range.
     """
@@ -66,9 +67,10 @@ class SerialCore:
         self._output = state_output.StateOutput(1.0 / topic_rate_hz)
         self._silence = link_health.SilenceWatch(silence_timeout_s)
         self._hold = device_commands.HoldGate()
-        self._feel = device_commands.FeelWatch(feel_timeout_s)
+        self._feel = feel_watch.FeelWatch(feel_timeout_s)
         self._announce = None  # an opmode for the next step() to hand the node, or None
-        self._profile = ''  # of the newest active settings
+        self._profile = ''  # of the newest active settings taken
+        self._parked = None  # (revision, joints, profile) of other settings, until feel ends
         self._rate = device_commands.RateMeter()
         self._rate_epoch = None
         self._heartbeat_s = None
@@ -109,7 +111,8 @@ class SerialCore:
             self._log_info('frames from %s again; reloading the settings in case the device '
                            'restarted' % self._port)
             self._settings.unload(load=True)
-        outputs = self._output.on_events(events, now, self._settings.loaded_since_s)
+        outputs = self._output.on_events(events, now, self._settings.loaded_since_s,
+                                         self._settings.angle_tag)
         for output in outputs:
             if type(output) is state_output.Heartbeat:
                 self._heartbeat_s = now
@@ -128,13 +131,23 @@ class SerialCore:
 
     # Host -> device ------------------------------------------------------------------------
     def on_stored(self, revision, joints, profile=''):
-        """Take config_X's newest active settings (see DeviceSettings.on_stored); profile is
-        '' (as stored) or 'feel', for log lines and diagnostics."""
-        if profile != self._profile:
-            self._log_info('active settings revision %d: profile %s' % (
-                revision, reprlib.repr(profile) if profile else "'' (as stored)"))
-        self._profile = profile
-        self._settings.on_stored(revision, joints)
+        """Take config_X's newest active settings (see DeviceSettings.on_stored); profile ''
+        (as stored) or interface.FEEL_PROFILE. In feel mode, settings of another profile wait
+        until feel ends (_unpark), so that the device never holds a feel setpoint on them."""
+        self._parked = (revision, joints, profile)
+        self._unpark()
+        self._feel_ready()
+
+    def _unpark(self):
+        if self._parked is None or (self._feel.active
+                                    and self._parked[2] != interface.FEEL_PROFILE):
+            return
+        (revision, joints, profile), self._parked = self._parked, None
+        if self._settings.on_stored(revision, joints):
+            if profile != self._profile:
+                self._log_info('active settings revision %d: profile %s' % (
+                    revision, reprlib.repr(profile) if profile else "'' (as stored)"))
+            self._profile = profile
 
     def step_due(self):
         """Return True if step() has work now (e.g. after on_stored, a device that talks again
@@ -148,42 +161,59 @@ class SerialCore:
         The firmware holds the setpoints it has (0 rad after power-on or limp), so a hold
         without seven setpoints since the last limp/connect first sends the current angles as
         the missing ones, in the same write; with no current angles it is refused (logged; a
-        refused feel is limp, announced). Feel is the device's hold plus the setpoint watchdog
-        (step()); limp, hold or a reconnect end it, a repeat of feel changes nothing.
+        refused feel is limp, announced). Feel is the device's hold on the feel profile's gains:
+        the hold goes out once the device holds them (setpoints meanwhile kept, sent just before
+        it), then the setpoint watchdog runs (step()). Limp, hold or a reconnect end feel, and
+        the settings that waited go out after that opmode; a repeat of feel changes nothing.
         """
         if mode not in interface.OPMODES:
             self._log_warn('opmode must be one of %s, got %s; ignored'
                            % ('/'.join(interface.OPMODES), reprlib.repr(mode)))
             return
+        if mode == interface.FEEL:
+            if not self._feel.active:
+                refusal = self._hold.plan_hold(self._settings.epoch).refusal
+                if refusal:
+                    self._go_limp('feel refused: %s' % refusal)
+                    return
+                self._feel.start(self._clock())
+                self._feel_ready()
+            return
+        kept = self._feel.stop()
         if mode == interface.LIMP:
-            self._feel.stop()
             self._send([codec.Opmode(codec.LIMP)], 'opmode limp')
-            return
-        if mode == interface.FEEL and self._feel.active:
-            return
-        plan = self._hold.plan_hold(self._settings.epoch)
+        else:
+            self._send_hold(mode, kept)   # what the device would hold had feel not waited
+        self._unpark()
+
+    def on_setpoint(self, joint, angle_rad):
+        """Send a joint's setpoint (rad), used by the device in hold (and fed to feel mode's
+        watchdog; kept while feel waits for its gains)."""
+        if self._feel.on_setpoint(self._clock(), joint, angle_rad):
+            self._send([codec.JointSetpoint(joint, angle_rad)], 'joint %d setpoint' % joint)
+
+    def _feel_ready(self):
+        """Once the device holds the feel profile in full, send the kept setpoints and feel's
+        hold."""
+        if self._feel.waiting and self._profile == interface.FEEL_PROFILE \
+                and self._settings.holds_stored:
+            self._send_hold(interface.FEEL, self._feel.gains_loaded())
+
+    def _send_hold(self, mode, setpoints):
+        """Send setpoints (codec.JointSetpoint), then the device's hold for `mode`."""
+        plan = self._hold.plan_hold(self._settings.epoch, setpoints)
         if plan.refusal:
             if mode == interface.FEEL:
                 self._go_limp('feel refused: %s' % plan.refusal)
-                return
-            self._log_warn('hold refused: %s; send joint_J/setpoint for every joint first, or '
-                           'wait for the joint states' % plan.refusal)
+            else:
+                self._log_warn('hold refused: %s; send joint_J/setpoint for every joint first, '
+                               'or wait for the joint states' % plan.refusal)
             return
-        filled = [m.joint for m in plan.messages if isinstance(m, codec.JointSetpoint)]
+        filled = [m.joint for m in plan.messages[len(setpoints):-1]]
         if filled:
             self._log_info('%s: joints %s had no setpoint since the last limp or connect; '
                            'their current angles go first' % (mode, filled))
         self._send(plan.messages, 'opmode %s (the device\'s hold)' % mode)
-        if mode == interface.FEEL:
-            self._feel.start(self._clock())
-        else:
-            self._feel.stop()
-
-    def on_setpoint(self, joint, angle_rad):
-        """Send a joint's setpoint (rad), used by the device in hold (and fed to feel mode's
-        watchdog)."""
-        self._feel.on_setpoint(self._clock())
-        self._send([codec.JointSetpoint(joint, angle_rad)], 'joint %d setpoint' % joint)
 
     def _go_limp(self, why):
         """End feel mode: send limp, log why, and have step() announce limp on <ns>/opmode."""
@@ -191,6 +221,7 @@ class SerialCore:
         self._log_warn('%s; going limp (opmode limp sent and published)' % why)
         self._send([codec.Opmode(codec.LIMP)], 'opmode limp')
         self._announce = interface.LIMP
+        self._unpark()
 
     def _send(self, messages, what):
         """Send messages in whole-frame writes of <= 64 bytes; the hold gate notes them."""
@@ -216,12 +247,11 @@ class SerialCore:
             Actions for the node.
         """
         self._settings.step()
+        self._feel_ready()
         now = self._clock()
-        setpointless_s = self._feel.expired(now)
-        if setpointless_s is not None:
-            self._go_limp('no joint setpoint for %.2f s in feel mode: arm_X stopped streaming '
-                          "Baxter's pose (it stopped, or the link to the robot host is down)"
-                          % setpointless_s)
+        why = self._feel.expired(now)
+        if why:
+            self._go_limp(why)
         announce, self._announce = self._announce, None
         was_silent = self._silence.silent
         quiet_s = self._silence.check(now, link.connected)

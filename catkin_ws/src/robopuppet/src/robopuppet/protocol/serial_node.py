@@ -26,7 +26,8 @@ class SerialNode:
     silence watch, feel mode's setpoint watchdog, 1 Hz diagnostics). See docs/serial.md.
 
     Publishes (in <ns> = /puppet/arm_<side>; see robopuppet.protocol.state_output): heartbeat
-        (std_msgs/Empty), joint_states (sensor_msgs/JointState: position rad, effort V),
+        (std_msgs/Empty), joint_states (sensor_msgs/JointState: position rad, effort V,
+        header.frame_id the settings.angle_tag of the settings sent to the device last),
         joint_J/angle, joint_J/voltage (std_msgs/Float32: rad, V), joint_J/enc_stat
         (std_msgs/String), gripper_G (std_msgs/Float32, 0-1), user_btn (std_msgs/UInt8);
         /diagnostics (1 Hz): status '<node>: puppet serial link', hardware_id <ns>.
@@ -34,8 +35,8 @@ class SerialNode:
         watchdog, a reconnect, a refused feel), so that every node knows the puppet is limp.
     Subscribes: active_settings (robopuppet_msgs/ArmSettings, latched, from config_X: the
         settings the device should hold, the feel profile's in feel mode), opmode
-        (std_msgs/String: limp; hold; feel = the device's hold + the setpoint watchdog),
-        joint_J/setpoint (std_msgs/Float32, rad).
+        (std_msgs/String: limp; hold; feel = the device's hold, once it holds the feel
+        profile, + the setpoint watchdog), joint_J/setpoint (std_msgs/Float32, rad).
     Echoes: each link_ping (robopuppet_msgs/LinkPing from arm_X on the robot host) goes back at
         once on link_echo with `echoed` = this node's rospy.Time.now(), both tcp_nodelay. This is
         the node that stamps joint_states, so arm_X measures the clock that stamps the samples.
@@ -45,7 +46,8 @@ class SerialNode:
         re-opens the port, then every second); ~comm_rate (float, default 0: no check: the
         firmware's compile-time state-set rate, 10 Hz in 2020; 20 % off is reported);
         ~feel_setpoint_timeout (float, default 0.5 s: in feel mode, no joint setpoint for this
-        long sends limp, logs a warning and publishes limp on opmode).
+        long, or no feel gains on the device this long after the opmode, sends limp, logs a
+        warning and publishes limp on opmode).
     """
 
     def __init__(self):
@@ -104,6 +106,7 @@ class SerialNode:
         def joint_states(o):
             msg = JointState(name=settings.JOINT_NAMES, position=o.positions, effort=o.efforts)
             msg.header.stamp = rospy.Time.now()
+            msg.header.frame_id = o.angle_tag   # the angle settings: see arm.angle_settings
             states.publish(msg)
 
         def each(publishers, kind, values):

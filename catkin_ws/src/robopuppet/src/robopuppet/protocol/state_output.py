@@ -18,7 +18,8 @@ from robopuppet import interface, settings
 from robopuppet.protocol import codec
 
 Heartbeat = collections.namedtuple('Heartbeat', '')
-JointStates = collections.namedtuple('JointStates', 'positions efforts')  # rad, V; joint order
+# rad, V in joint order; angle_tag: settings.angle_tag of the settings the device was being sent
+JointStates = collections.namedtuple('JointStates', 'positions efforts angle_tag', defaults=('',))
 EncStatus = collections.namedtuple('EncStatus', 'joint status')  # status: interface.ENC_STATUS
 JointTopics = collections.namedtuple('JointTopics', 'angles voltages statuses')  # rad, V, text
 Grippers = collections.namedtuple('Grippers', 'readings')  # four readings, 0-1
@@ -43,12 +44,13 @@ class StateOutput:
         self._button = None
         self._next_topics_s = 0.0
 
-    def on_events(self, events, now_s, loaded_since_s):
+    def on_events(self, events, now_s, loaded_since_s, angle_tag=''):
         """Return the outputs for events (state_set.StateSet, codec.Heartbeat) received at now_s.
 
         Args:
             loaded_since_s: when the settings were loaded after the last (re)connect, or None
                 while they are not (same clock as now_s and the sets' start_s).
+            angle_tag: the JointStates' tag (DeviceSettings.angle_tag now).
         """
         if loaded_since_s != self._loaded_since_s:
             self._loaded_since_s = loaded_since_s
@@ -58,10 +60,10 @@ class StateOutput:
             if type(event) is codec.Heartbeat:
                 outputs.append(Heartbeat())
             else:
-                self._on_set(event, now_s, outputs)
+                self._on_set(event, now_s, outputs, angle_tag)
         return outputs
 
-    def _on_set(self, state, now_s, outputs):
+    def _on_set(self, state, now_s, outputs, angle_tag):
         joints = self._loaded_since_s is not None and state.start_s >= self._loaded_since_s
         if joints:
             for message in state.joints:
@@ -72,7 +74,7 @@ class StateOutput:
                 if status != self._status[joint]:
                     self._status[joint] = status
                     outputs.append(EncStatus(joint, status))
-            outputs.append(JointStates(tuple(self._positions), tuple(self._efforts)))
+            outputs.append(JointStates(tuple(self._positions), tuple(self._efforts), angle_tag))
         if state.button != self._button:
             self._button = state.button
             outputs.append(Button(state.button))

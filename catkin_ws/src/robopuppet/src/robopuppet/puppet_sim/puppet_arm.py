@@ -11,6 +11,17 @@ servos. Until the first hand input the hand holds REST_POSE_RAD. Angles here are
 firmware's encoders (robopuppet.puppet_sim.puppet_model) turn them into reported angles.
 hand_torque_nm observes what the hand exerts (what the nurse feels in feel mode); it changes
 nothing in the motion.
+
+The hand grips a joint for HAND_GRIP_S after each input for it (the operator moving it, or
+holding on: a test that keeps sending the pose); then it rests on the puppet. A resting hand
+still carries the puppet's weight, but gives way to the motors as a nurse's hand does in a
+playback into the puppet (she keeps a hand on it and lets the motors lead): once the motor of
+a joint drives at more than HAND_YIELD_V, the hand goes along with that joint, pushing nothing,
+until the drivers stop (limp: it holds the puppet where it is) or the operator gives that
+joint a new target (the same target again, as the GUI sends every slider when one moves, leaves
+it with the puppet). HAND_YIELD_V is above feel mode's default 2 V voltage limit (in feel the
+nurse leads: her hand does not give way to the gentle pull) and well below the 7.2 V that a
+motor reaches against a hand that holds on.
 """
 import math
 
@@ -44,6 +55,8 @@ HAND_STIFFNESS_NM_PER_RAD = 30.0
 HAND_DAMPING_NMS = 1.0
 HAND_MAX_TORQUE_NM = 8.0
 HAND_SPEED_RADPS = 3.0
+HAND_GRIP_S = 1.0     # after an input, the hand grips this long; then it rests on the puppet
+HAND_YIELD_V = 3.6    # a resting hand gives way to a motor driving harder than this (1.2 N m)
 
 
 def wrap(angle_rad):
@@ -69,10 +82,45 @@ class ArmPhysics:
         self.hand_goal_rad = np.array(pose_rad, dtype=float)
         self.hand_rad = np.array(pose_rad, dtype=float)
         self.hand_engaged = np.ones(n, dtype=bool)
+        self.hand_still_s = np.full(n, HAND_GRIP_S)   # since the last input: resting at first
+        self.hand_yielding = np.zeros(n, dtype=bool)  # going along with the motors
+        self._hand_input_rad = list(pose_rad)         # the last target given per joint
         self.hand_torque_nm = np.zeros(n)  # the hand's torque on each joint at the last step
         self.gravity_nm = np.zeros(n)
         self.inertia_kgm2 = ROTOR_INERTIA_KGM2.copy()
         self.update_loads()
+
+    def set_hand(self, joint, angle_rad):
+        """Move the hand on a joint toward a mechanical angle (rad); None lets go of it.
+
+        The same target again for a joint where the hand goes along with the motors changes
+        nothing (the GUI sends every slider when one moves): only a new one grips it again."""
+        if angle_rad is not None and self.hand_yielding[joint] and (
+                angle_rad == self._hand_input_rad[joint]):
+            return
+        self._hand_input_rad[joint] = angle_rad
+        self.hand_yielding[joint] = False
+        if angle_rad is None:
+            self.hand_engaged[joint] = False
+            return
+        if not self.hand_engaged[joint]:
+            self.hand_rad[joint] = self.angle_rad[joint]
+        self.hand_engaged[joint] = True
+        self.hand_goal_rad[joint] = angle_rad
+        self.hand_still_s[joint] = 0.0
+
+    def update_hand(self, dt_s, drivers_enabled):
+        """Let the hand rest dt_s longer; where it rests and a motor drives at more than
+        HAND_YIELD_V it gives way: until limp or a new target it goes along with that joint,
+        pushing nothing (call once per control tick, before its steps)."""
+        self.hand_still_s += dt_s
+        if drivers_enabled:
+            self.hand_yielding |= (self.hand_engaged & (self.hand_still_s >= HAND_GRIP_S)
+                                   & (np.abs(self.motor_voltage_v) > HAND_YIELD_V))
+        else:
+            self.hand_yielding[:] = False
+        self.hand_rad[self.hand_yielding] = self.angle_rad[self.hand_yielding]
+        self.hand_goal_rad[self.hand_yielding] = self.angle_rad[self.hand_yielding]
 
     def update_loads(self):
         """Recompute gravity torque and effective inertia of each joint for the current pose."""
@@ -113,7 +161,8 @@ class ArmPhysics:
         self.hand_rad += np.clip(self.hand_goal_rad - self.hand_rad, -step, step)
         hand = np.clip(HAND_STIFFNESS_NM_PER_RAD * (self.hand_rad - self.angle_rad)
                        - HAND_DAMPING_NMS * speed, -HAND_MAX_TORQUE_NM, HAND_MAX_TORQUE_NM)
-        self.hand_torque_nm = np.where(self.hand_engaged, hand, 0.0)
+        hand[~self.hand_engaged | self.hand_yielding] = 0.0
+        self.hand_torque_nm = hand
         torque += self.hand_torque_nm
         moving = np.abs(speed) > 1e-6
         stuck = ~moving & (np.abs(torque) <= COULOMB_FRICTION_NM)

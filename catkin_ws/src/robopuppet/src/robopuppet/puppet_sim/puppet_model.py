@@ -105,13 +105,8 @@ class PuppetFirmware:
     def set_hand(self, positions_rad):
         """Move the hand toward {joint: mechanical angle rad}; None or NaN lets go of a joint."""
         for joint, angle in positions_rad.items():
-            if angle is None or not math.isfinite(angle):
-                self.arm.hand_engaged[joint] = False
-            else:
-                if not self.arm.hand_engaged[joint]:
-                    self.arm.hand_rad[joint] = self.arm.angle_rad[joint]
-                self.arm.hand_engaged[joint] = True
-                self.arm.hand_goal_rad[joint] = angle
+            self.arm.set_hand(joint, angle if angle is not None and math.isfinite(angle)
+                              else None)
 
     def set_button(self, button):
         """Hold user button 1-4 down, or none (0). Raises ValueError for another value."""
@@ -266,6 +261,7 @@ class PuppetFirmware:
             self._ticks.append(ControlTick(time_s, tuple(self.setpoint_rad),
                                            tuple(self.angle_rad), tuple(self.voltage_v)))
         self.arm.update_loads()
+        self.arm.update_hand(dt_s, hold)
         sub_dt = dt_s / PHYSICS_STEPS_PER_TICK
         for _ in range(PHYSICS_STEPS_PER_TICK):
             before = self.arm.step(sub_dt, applied, hold)

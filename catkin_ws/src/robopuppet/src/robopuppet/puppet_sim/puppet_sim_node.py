@@ -26,7 +26,9 @@ class PuppetSimNode:
         hand (sensor_msgs/JointState): joint_0..joint_6 mechanical angles rad where the
             operator's hand moves the puppet; a NaN position lets go of that joint; a message
             with a position infinite or outside [-pi, pi] is refused (warning). Until the
-            first message the hand holds the rest pose (see docs/serial.md).
+            first message the hand holds the rest pose (see docs/serial.md). The hand grips a
+            joint for 1 s after each target for it, then rests and gives way to its motor
+            (puppet_arm: HAND_GRIP_S, HAND_YIELD_V); to hold on, send the target again.
         button (std_msgs/UInt8): the user button held down, 1-4, or 0 for none.
         grippers (std_msgs/Float32MultiArray): four readings 0-1; reading 3 is the end-piece
             button, ~1 released and ~0 pressed.

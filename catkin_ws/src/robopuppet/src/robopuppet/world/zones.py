@@ -1,24 +1,26 @@
 """Keep-out zones: the arm commands that would take any part of a Baxter arm into one are cut.
 
 A zone file (config/zones.yaml; docs/zones.md) is a shape file (world.shapes): `frame: base`
-and a `shapes` list of named boxes, spheres and cylinders in Baxter's base frame.
+and a `shapes` list of named boxes, spheres and cylinders in Baxter's base frame. Clearances are
+of the arm's capsules (world.arm_capsules) from every zone (world.clearance); ArmCapsules.reach
+bounds how far a capsule moves for a joint motion, which is what makes every proof here hold
+between the configurations it checks.
 
-ZoneGuard.limit(q_from, q_to) checks the whole straight joint-space motion from one command to
-the next, not only its end, for every capsule of the arm (world.arm_capsules) against every
-zone (world.clearance), and returns q_to, or the last configuration on the motion that is
-proven clear. The guarantee is for the continuous motion: a configuration checked at s on the
-motion q(s) = q_from + s (q_to - q_from), s in 0..1, covers the interval s +- w/2 around it when
-each capsule's clearance there exceeds how far its segment can move over w/2, bounded by
-ArmCapsules.reach @ |q_to - q_from| x w/2. Intervals not proven clear are split (up to
-MAX_SPLIT ways) until their motion bound is below RESOLUTION_M; the first one still not proven
-ends the motion at its start. A cut stops the arm MARGIN_M outside the zone, not at it.
+ZoneGuard.limit_box (arm_X, the replay) proves a whole box of joint angles clear: where Baxter
+can be until a command takes effect, stretched to the command (arm.arm_reach; docs/zones.md,
+"The guarantee"). ZoneGuard.limit (and slide, the stand-in's contact) proves the straight
+motion from one configuration to the next: a configuration checked at s on q(s) = q_from +
+s (q_to - q_from) covers the interval s +- w/2 when each capsule's clearance exceeds how far it
+can move over w/2; intervals not proven are split until their motion bound is below
+RESOLUTION_M, and the first one still not proven ends the motion at its start. Either stops
+the arm MARGIN_M outside a zone, not at it.
 
-At a zone already (within NEAR_M, as after a cut) or inside it (a zone file can change
-under the arm): such a (capsule, zone) pair may not end a command nearer (deeper) than it
-started, and on the way its clearance may dip at most SLACK_M (never into the zone from outside);
-otherwise the arm stays at q_from. So the arm can always move away, each command ends no nearer
-than it started, and depth cannot creep over many commands. Pure numpy, no ROS; with a few
-dozen capsules a numpy call's overhead is the cost, so each pass is one batch of configurations.
+At a zone already (within NEAR_M, as after a cut) or inside it (a zone file can change under
+the arm), a (capsule, zone) pair may not end a command nearer (deeper) than it started, and on
+the way its clearance may dip at most SLACK_M, never into the zone from outside (floors);
+otherwise the arm stays at q_from. So the arm can always move away and depth cannot creep.
+Pure numpy, no ROS; with a few dozen capsules a numpy call's overhead is the cost, so each pass
+is one batch of configurations.
 """
 import collections
 import math
@@ -39,6 +41,7 @@ MAX_NEW = 64            # ... while their new configurations fit in this many (b
 FIRST_STEP_M = 0.02     # the sweep starts with intervals of at most this motion bound (m) ...
 MAX_FIRST = 64          # ... but no more than this many
 MAX_CHECKED = 4096      # configurations checked per call at most (then the rest is refused)
+FRACTIONS = (1.0, 0.5, 0.25, 0.125, 0.0625, 0.03125)   # of a step that limit_box tries
 
 Hit = collections.namedtuple('Hit', 'zone link')
 Hit.__doc__ = 'Why a motion was cut: the zone name and the arm link (URDF name) that would enter.'
@@ -70,6 +73,18 @@ def load_zones(path):
     return parse_zones(text, path)
 
 
+def floors(start):
+    """Return (near, floor), (Z, C) each, for (capsule, zone) pairs with clearances `start`
+    (m) where a motion starts: near, the pair is at (or in) a zone already (below NEAR_M);
+    floor, the clearance the pair must keep on the motion: MARGIN_M, or for a near pair its
+    start less SLACK_M but never below 0 when it starts outside (never into a zone from
+    outside)."""
+    near = start < NEAR_M
+    floor = np.where(near, start - SLACK_M, MARGIN_M)
+    floor[(start > 0.0) & (floor < 0.0)] = 0.0
+    return near, floor
+
+
 class ZoneGuard:
     """Cut arm commands that would take one arm into a keep-out zone.
 
@@ -84,6 +99,7 @@ class ZoneGuard:
         self.names = self.zones.names
         self.checked = 0   # configurations checked by the last call (for benchmarks)
         self._stuck = (None, None)   # slide's last (question, answer)
+        self._boxed = (None, None)   # limit_box's last (question, answer)
 
     def _clearance(self, angles, needed):
         """Return (Z, M, C) clearances (m) at (M, 7) angles, exact where below `needed`."""
@@ -119,10 +135,8 @@ class ZoneGuard:
         raw = self._clearance(q_from + np.array(s)[:, None] * motion, speed * widest + NEAR_M)
         self.checked = len(s)
         start = raw[:, 0]                                    # (Z, C)
-        near = start < NEAR_M                                 # at (or in) a zone already
-        floor = np.where(near, start - SLACK_M, MARGIN_M)    # the clearance to keep
+        near, floor = floors(start)
         if near.any():
-            floor[(start > 0.0) & (floor < 0.0)] = 0.0       # never into a zone from outside
             closer = np.where(near, raw[:, -1] - start, np.inf)
             if closer.min() < 0.0:   # nearer at the end than at the start: stay
                 z, c = np.unravel_index(np.argmin(closer), closer.shape)
@@ -138,6 +152,79 @@ class ZoneGuard:
             return list(q_to), None
         z, c = pair
         return list(q_from + end * motion), Hit(self.names[z], self.capsules.links[c])
+
+    def limit_box(self, lo, hi, q_from, q_to, slide=True):
+        """Return (q_out, hit) for the next command of an arm that may be anywhere in the box
+        lo..hi (7 rad each: where it can be until the command takes effect) and whose last
+        command was q_from: q_out is q_from + f (q_to - q_from) for the largest f of FRACTIONS
+        whose box, lo..hi stretched to hold q_out, is proven clear; else (slide) the largest
+        single-joint part of the step that is; else q_from. hit (zone, link) says what held
+        the full step back, None when q_out is q_to.
+
+        An arm whose every joint moves from where it is toward its target without overshoot
+        stays inside that box until the next command: proving the box proves its motion,
+        whatever each joint's speed. Box test: with a and b opposite corners, no point of a
+        capsule can be nearer a zone than (clearance at a + clearance at b - reach @ width) / 2.
+        """
+        asked = tuple(np.concatenate([lo, hi, q_from, q_to, [slide]]).tolist())
+        if asked != self._boxed[0]:   # else pushing on at a zone, Baxter at rest: the same
+            self._boxed = (asked, self._limit_box(lo, hi, q_from, q_to, slide))
+        return list(self._boxed[1][0]), self._boxed[1][1]
+
+    def _limit_box(self, lo, hi, q_from, q_to, slide):
+        lo, hi = np.asarray(lo, np.float64), np.asarray(hi, np.float64)
+        q_from, q_to = np.asarray(q_from, np.float64), np.asarray(q_to, np.float64)
+        self.checked = 0
+        step = q_to - q_from
+        if not self.names or not step.any():   # the same target: proven when it was sent
+            return list(q_to), None
+        gaps, spread = self._corners(lo, hi, q_to[None], True, q_from)
+        start = gaps[:, 0]                                                 # (Z, C)
+        near, floor = floors(start)
+        passed, short, closer = self._proven(gaps[:, 1:], spread, start, near, floor)
+        if passed[0]:
+            return list(q_to), None
+        worst = np.where(closer[:, 0] < 0.0, -np.inf, short[:, 0])
+        z, c = np.unravel_index(np.argmin(worst), worst.shape)
+        hit = Hit(self.names[z], self.capsules.links[c])
+        tries = [np.array([q_from + f * step for f in FRACTIONS[1:]])]
+        if slide:   # each joint's part of the step alone
+            tries.append(np.array([q_from + f * step[j] * np.eye(7)[j]
+                                   for j in np.flatnonzero(step) for f in FRACTIONS[::2]]))
+        for targets in tries:
+            gaps, spread = self._corners(lo, hi, targets, near.any())
+            passed = self._proven(gaps, spread, start, near, floor)[0]
+            if passed.any():
+                moved = np.abs(targets[passed] - q_from) @ self.capsules.reach.T
+                return list(targets[passed][np.argmax(moved.max(axis=1))]), hit
+        return list(q_from), hit
+
+    def _corners(self, lo, hi, targets, with_targets, *more):
+        """Return (gaps (Z, M, C), spread (N, C)) for (N, 7) targets: clearances at the more
+        configurations, then each target's box's corners a, then its corners b, then (when
+        with_targets) the targets (a box: lo..hi stretched to hold the target); spread: how
+        far a capsule point in a box can be from its corners a and b together (reach @ the
+        box's width). Exact where below half the spread (and NEAR_M), lower bounds elsewhere."""
+        low, high = np.minimum(lo, targets), np.maximum(hi, targets)
+        toward = targets >= (lo + hi) / 2.0        # corner b on the target's side of the box
+        spread = (high - low) @ self.capsules.reach.T
+        configs = [np.array(more).reshape(-1, 7), np.where(toward, low, high),
+                   np.where(toward, high, low)] + ([targets] if with_targets else [])
+        configs = np.concatenate(configs)
+        self.checked += len(configs)
+        return self._clearance(configs, spread.max(axis=0) / 2.0 + NEAR_M), spread
+
+    @staticmethod
+    def _proven(gaps, spread, start, near, floor):
+        """Return (passed (N,), short, closer (Z, N, C)) from _corners' gaps for N targets:
+        whether each box is proven to keep every capsule above its floor (short: by how much,
+        > 0 proven) and, for the pairs near a zone, its target no nearer than at the start."""
+        n = len(spread)
+        short = gaps[:, :n] + gaps[:, n:2 * n] - 2.0 * floor[:, None] - spread[None]
+        closer = np.full(short.shape, np.inf)
+        if near.any():
+            closer = np.where(near[:, None], gaps[:, 2 * n:] - start[:, None], np.inf)
+        return ((short > 0.0) & (closer >= 0.0)).all(axis=(0, 2)), short, closer
 
     def slide(self, q_from, q_to):
         """Return (q_out, hit) like limit, but when limit cannot move at all, take the joints
