@@ -232,7 +232,9 @@ class ReplayPuppetSimTest(unittest.TestCase):
 
     def test_3_button_1_stops_the_playback_at_once_and_the_puppet_holds_there(self):
         process = self.replay('--speed', '0.5')
-        wait_for(lambda: any(line.startswith('replay: playing') for line in self.lines), 20,
+        # Up to 11 s of checks before the approach (puppet_player's waits), then the approach:
+        # a loaded machine (a CI run once saw nothing said in 20 s) needs more.
+        wait_for(lambda: any(line.startswith('replay: playing') for line in self.lines), 45,
                  'playing (replay said: %s)' % self.lines)
         time.sleep(0.5)  # the setpoints move
         wait_for(lambda: self.puppet.state() == interface.READY, 10, 'arm_R ready for button 1')
