@@ -64,7 +64,7 @@ RANGE_PAIRS = (('angle_min', 'angle_max'),
 # (out of [-pi, pi], and serial_X drops every set). A voltage range may exclude 0.
 ZERO_RANGES = (('velocity_min', 'velocity_max'),)
 SIGNS = ('sign_angle', 'sign_motor')
-# The settings that change the angle the puppet reports (the 2020 firmware, as puppet_sim models it):
+# The settings that change the angle the puppet reports (the 2020 firmware, as puppet_sim does):
 # sign_angle x wrap(raw - sign_angle x home_angle), clamped to [angle_min, angle_max], its rate
 # limited to [velocity_min, velocity_max]. A change of one moves the reported angle while the
 # hand stays still: Baxter must not follow it (docs/teleop.md, "Settings that change the angle").
