@@ -7,19 +7,24 @@ at 10 Hz, diagnostics at 1 Hz, three cameras' 640x480 JPEG frames (quality 80) a
 then times each stage of the export and prints the figures, with the HDF5's MB per minute.
 
     python3 benchmarks/bench_export.py [--minutes 1] [--repeat 3] [--keep DIR] [--rate HZ]
-        [--cameras 3] [--frames IMAGE] [--compression lzf|gzip|none]
+        [--cameras 3] [--frames IMAGE] [--compression lzf|gzip|none] [--memory]
 
 The frames are 640x480 windows of IMAGE (default docs/images/sim_cameras.jpg: the simulated
 room and hand cameras), shifted a few pixels from frame to frame; give a photograph to see what
 a webcam's frames cost. --compression overrides the images' HDF5 filter (gzip: h5py's default
 level, 4).
 --keep DIR leaves the episode and its outputs (.hdf5, .csv, .png) in DIR to look at.
+--memory runs the whole export command instead (`export EPISODE --format all --rate HZ`) in a
+child process, --repeat times, and prints its peak resident memory, wall and CPU time, e.g.
+`--memory --minutes 30 --cameras 0` (a 30-minute episode without images).
 """
 import argparse
 import math
 import os
 import resource
 import shutil
+import subprocess
+import sys
 import tempfile
 import time
 
@@ -36,7 +41,7 @@ from std_msgs.msg import Float32
 
 from robopuppet.baxter_description import arm_joint_names
 from robopuppet.cameras import jpeg
-from robopuppet.episodes import export, export_files, export_images
+from robopuppet.episodes import export, export_files, export_images, export_writers
 from robopuppet.interface import BAXTER_CAMERAS, ROOM_CAMERA
 
 T0_NS = 1700000000 * 10**9
@@ -131,10 +136,35 @@ def write_episode(directory, minutes, frames):
     return bag_path, count
 
 
+def first_joint_state(bag_path):
+    """Return the time (genpy.Time) of the bag's first /robot/joint_states."""
+    bag = export_files.open_bag(bag_path)
+    with bag:
+        return export_files.index_times(bag, ['/robot/joint_states'])[0]
+
+
 def timed(function, *args):
     started = time.perf_counter()
     result = function(*args)
     return result, time.perf_counter() - started
+
+
+def export_command(bag_path, rate_hz, repeat):
+    """Run the export command on the bag in a child process repeat times; print each run's peak
+    resident memory (MB), wall and CPU time (s) and the files written."""
+    argv = [sys.executable, '-c', 'from robopuppet.episodes import export_cli; '
+            'export_cli.main()', bag_path, '--format', 'all', '--rate', str(rate_hz)]
+    for _ in range(repeat):
+        started = time.perf_counter()
+        child = subprocess.Popen(argv, stdout=subprocess.DEVNULL)
+        _, status, usage = os.wait4(child.pid, 0)
+        wall_s = time.perf_counter() - started
+        base = bag_path[:-len('.bag')]
+        sizes = ', '.join('%s %.1f MB' % (suffix, os.path.getsize(base + suffix) / 1e6)
+                          for suffix in ('.hdf5', '.csv') if os.path.exists(base + suffix))
+        print('export command: exit %d, peak resident memory %.0f MB, %.1f s wall, %.1f s CPU; '
+              '%s' % (os.waitstatus_to_exitcode(status), usage.ru_maxrss / 1e3, wall_s,
+                      usage.ru_utime + usage.ru_stime, sizes), flush=True)
 
 
 def main():
@@ -146,18 +176,24 @@ def main():
     parser.add_argument('--cameras', type=int, default=3, choices=range(len(CAMERAS) + 1))
     parser.add_argument('--frames', default=DEFAULT_FRAMES, metavar='IMAGE')
     parser.add_argument('--compression', choices=sorted(COMPRESSION))
+    parser.add_argument('--memory', action='store_true',
+                        help='time the whole export command and print its peak memory')
     args = parser.parse_args()
     directory = args.keep or tempfile.mkdtemp(prefix='bench_export_')
     os.makedirs(directory, exist_ok=True)
     compression = (COMPRESSION[args.compression] if args.compression
-                   else export_files.IMAGE_COMPRESSION)
+                   else export_writers.IMAGE_COMPRESSION)
     try:
         frames = camera_frames(args.frames, args.cameras)
         (bag_path, count), write_s = timed(write_episode, directory, args.minutes, frames)
         print('episode: %.1f min, %d messages, %.1f MB bag (written in %.1f s); %d cameras at '
               '%d frames/s, JPEG %.0f kB a frame' % (
                   args.minutes, count, os.path.getsize(bag_path) / 1e6, write_s, args.cameras,
-                  FRAME_RATE_HZ, np.mean([len(j) for f in frames for j in f] or [0]) / 1e3))
+                  FRAME_RATE_HZ, np.mean([len(j) for f in frames for j in f] or [0]) / 1e3),
+              flush=True)
+        if args.memory:
+            export_command(bag_path, args.rate, args.repeat)
+            return
         stages = {}
         base = os.path.join(directory, NAME)
         for _ in range(args.repeat):
@@ -165,18 +201,20 @@ def main():
                                      export.episode_topics())
             recording, t_collect = timed(export.collect, messages)
             arrays, t_arrays = timed(export.aloha_arrays, recording, args.rate)
-            _, t_hdf5 = timed(export_files.write_hdf5, base + '.hdf5', arrays, True,
+            _, t_hdf5 = timed(export_writers.write_hdf5, base + '.hdf5', arrays, True,
                               args.rate, NAME)
-            _, t_frames = timed(lambda: sum(1 for _ in export_files.read_frames(bag_path)))
+            start = first_joint_state(bag_path)
+            _, t_frames = timed(lambda: sum(1 for _ in export_files.read_frames(bag_path,
+                                                                                start)))
             cpu_s = time.process_time()
-            _, t_images = timed(lambda: export_files.write_hdf5(
+            _, t_images = timed(lambda: export_writers.write_hdf5(
                 base + '.hdf5', arrays, True, args.rate, NAME,
-                export_files.read_frames(bag_path), compression=compression))
+                export_files.read_frames(bag_path, start), compression=compression))
             cpu_s = time.process_time() - cpu_s
-            _, t_csv = timed(lambda: export_files.write_csv(base + '.csv',
-                                                            export.csv_lines(arrays)))
-            series, t_series = timed(export.plot_series, recording, arrays)
-            _, t_plot = timed(export_files.write_plot, base + '.png', series, arrays['time'],
+            _, t_csv = timed(lambda: open(base + '.csv', 'w').write(
+                ''.join(line + '\n' for line in export.csv_lines(arrays))))
+            series, t_series = timed(export_writers.plot_series, recording, arrays)
+            _, t_plot = timed(export_writers.write_plot, base + '.png', series, arrays['time'],
                               NAME + ' (sim, benchmark)')
             for name, value in (('read bag', t_read), ('collect', t_collect),
                                 ('resample (%g Hz)' % args.rate, t_arrays),
@@ -196,7 +234,7 @@ def main():
         hdf5_mb = os.path.getsize(base + '.hdf5') / 1e6
         print('T = %d steps; hdf5 with images (%s) %.1f MB (%.1f MB per minute), csv %.2f MB, '
               'png %.2f MB' % (len(arrays['time']), args.compression or
-                               export_files.IMAGE_COMPRESSION, hdf5_mb, hdf5_mb / args.minutes,
+                               export_writers.IMAGE_COMPRESSION, hdf5_mb, hdf5_mb / args.minutes,
                                os.path.getsize(base + '.csv') / 1e6,
                                os.path.getsize(base + '.png') / 1e6))
         print('peak resident memory of this process %.0f MB (decoded, the frames of one '

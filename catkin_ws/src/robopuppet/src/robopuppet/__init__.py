@@ -11,7 +11,9 @@ Data flows from the puppet to Baxter:
 | (top level)   | shared tables: interface (names, enumerations, timing),     | tables only     |
 |               | settings (the joint settings), baxter_description (URDF),   |                 |
 |               | periodic (guarded loops), params (parameter checks),        |                 |
-|               | float32 (the settings' wire rounding and text)              |                 |
+|               | float32 (the settings' wire rounding and text);             |                 |
+|               | link_recovery (the one shared ROS adapter: subscriptions    |                 |
+|               | that come back soon after a link cut)                       |                 |
 | config/       | config_X: ini store, settings keeper, atomic file, the node | tables          |
 | baxter_sim/   | baxter_sim: the kinematic Baxter stand-in and its node      | tables, world   |
 | protocol/     | serial_X: frames, link, state sets, serial core, settings   | tables          |
@@ -45,7 +47,7 @@ readings, so that the ghost shows exactly what arm_X would command; gui/ maps Ba
 into puppet space with the same joint_motion rule as arm_X's feel mode.
 
 Within a folder the node adapter (`*_node.py`) is the only module that talks to ROS (besides
-gui.puppet_client, the GUI's ROS client); the others are pure (no rospy, no Qt outside
+gui.puppet_client, the GUI's ROS client, and the few adapters test_layout.py lists); the others are pure (no rospy, no Qt outside
 gui/) and take time as an argument. Only the executables in nodes/ import a `*_node` module.
 tests/unit/test_layout.py checks all of this.
 """

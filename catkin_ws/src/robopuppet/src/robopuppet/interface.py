@@ -52,6 +52,7 @@ OPMODE = 'opmode'                   # std_msgs/String, limp, hold or feel (to se
 TELEOP_STATE = 'teleop_state'       # robopuppet_msgs/TeleopState, latched (arm_X)
 GET_CONFIG = 'get_config'           # robopuppet_msgs/GetConfig (config_X)
 SET_CONFIG = 'set_config'           # robopuppet_msgs/SetConfig (config_X)
+SET_ARM_CONFIG = 'set_arm_config'   # robopuppet_msgs/SetArmConfig, several joints (config_X)
 STORED_SETTINGS = 'stored_settings'  # robopuppet_msgs/ArmSettings, latched (config_X)
 # robopuppet_msgs/ArmSettings, latched (config_X): what the device should hold now, the stored
 # settings or, in feel mode, those with feel mode's gentle gains (profile 'feel'; serial_X)

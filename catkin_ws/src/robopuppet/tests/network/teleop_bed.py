@@ -91,8 +91,9 @@ class System:
                                    'robopuppet_msgs/TeleopState')
         self.op_teleop = listen('operator', '%s/%s' % (ns, interface.TELEOP_STATE),
                                 'robopuppet_msgs/TeleopState')
-        self.op_link = listen('operator', '%s/%s' % (ns, interface.LINK_STATE),
-                              'robopuppet_msgs/LinkState')
+        # What gui_R hears of arm_R, recovering after a cut as gui_R does (link_recovery).
+        self.op_link = Stream(rb.python('operator', NODE, 'listen', '%s/%s' % (
+            ns, interface.LINK_STATE), 'robopuppet_msgs/LinkState', 'recover'))
         self.puppet = listen('operator', '%s/%s' % (ns, interface.JOINT_STATES),
                              'sensor_msgs/JointState')
         # The puppet's samples on the robot host, over a TCP connection of their own that

@@ -10,7 +10,7 @@ import pytest  # noqa: E402
 
 from robopuppet import interface, settings  # noqa: E402
 from robopuppet.calibration import procedure  # noqa: E402
-from robopuppet.config import config_store  # noqa: E402
+from robopuppet.config import config_store, settings_keeper  # noqa: E402
 from robopuppet.gui import state  # noqa: E402
 from robopuppet.gui.calibration_tab import CalibrationTab  # noqa: E402
 from robopuppet.gui.puppet_client import SetAnswer  # noqa: E402
@@ -29,7 +29,8 @@ def report(q, joint, cfg):
 
 
 class FakeArm:
-    """A fake client: ArmState readings from a hand pose; set_config as config_X (all or none)."""
+    """A fake client: ArmState readings from a hand pose; set_arm_config as config_X (all joints
+    or none); requests counts its calls."""
 
     side = 'R'
 
@@ -39,8 +40,9 @@ class FakeArm:
         for joint in settings.JOINTS:
             self.stored[joint].update(WIDE)
         self.refuse_joint = None
+        self.requests = 0
         self.targets = []  # poses published as the calibration target
-        self._lock = threading.Lock()
+        self._lock = threading.RLock()
 
     def publish_target(self, pose):
         self.targets.append(pose)
@@ -52,14 +54,15 @@ class FakeArm:
         with self._lock:
             return {j: dict(v) for j, v in self.stored.items()}
 
-    def set_config(self, joint, values):
+    def set_arm_config(self, values):
         with self._lock:
-            old = self.stored[joint]
-            if joint == self.refuse_joint:
-                return SetAnswer(False, 'refused for the test', dict(old))
-            self.stored[joint] = config_store.check_request(old, joint, list(values),
-                                                            list(values.values()))
-            return SetAnswer(True, '', dict(self.stored[joint]))
+            self.requests += 1
+            if self.refuse_joint in values:
+                return SetAnswer(False, 'joint %d refused for the test' % self.refuse_joint,
+                                 self.stored_settings())
+            self.stored = settings_keeper.check_arm_request(
+                self.stored, [(j, list(v), list(v.values())) for j, v in values.items()])
+            return SetAnswer(True, '', self.stored_settings())
 
     def pose(self, angles_rad, status=interface.WORKING, end_piece=1.0):
         stored = self.stored_settings()
@@ -116,6 +119,7 @@ def test_the_wizard_solves_applies_and_undoes(tab, arm, qtbot):
     tab.apply()
     qtbot.waitUntil(lambda: not tab._task.busy(), timeout=5000)
     assert 'stored the new values' in tab.message.text()
+    assert arm.requests == 1, 'every joint in one all-or-none request'
     after = arm.stored_settings()
     for pose in procedure.POSES:
         for joint, q in enumerate(pose.angles_rad):
@@ -127,18 +131,18 @@ def test_the_wizard_solves_applies_and_undoes(tab, arm, qtbot):
     assert not tab.buttons['Undo'].isEnabled()
 
 
-def test_a_refused_joint_is_reported_and_undo_restores_what_was_written(tab, arm, qtbot):
+def test_a_refused_joint_refuses_the_whole_calibration_and_leaves_nothing_to_undo(tab, arm,
+                                                                                   qtbot):
     before = arm.stored_settings()
     capture_all(tab, arm, qtbot)
     arm.refuse_joint = 3
     tab.apply()
     qtbot.waitUntil(lambda: not tab._task.busy(), timeout=5000)
-    assert 'FAILED' in tab.message.text() and 'joint 3 refused' in tab.message.text()
-    assert '[0, 1, 2]' in tab.message.text()
-    assert arm.stored_settings()[4] == before[4]
-    tab.undo()
-    qtbot.waitUntil(lambda: not tab._task.busy(), timeout=5000)
+    assert 'FAILED: refused: joint 3 refused' in tab.message.text()
+    assert 'every joint keeps what it had' in tab.message.text()
     assert arm.stored_settings() == before
+    assert tab.undo_values == {} and not tab.buttons['Undo'].isEnabled()
+    assert tab.buttons['Apply'].isEnabled(), 'Apply may be tried again'
 
 
 def teleop(follow_right, received_s=0.0):
@@ -181,10 +185,10 @@ def test_a_refusal_because_the_arm_follows_is_shown(tab, arm, qtbot):
     capture_all(tab, arm, qtbot)
     why = ("joint 0 home_angle and sign_angle change what the puppet's angles mean, and Baxter's "
            'right arm follows this puppet: stop following first: press 3')
-    arm.set_config = lambda joint, values: SetAnswer(False, why, {})
+    arm.set_arm_config = lambda values: SetAnswer(False, why, {})
     tab.apply()   # arm_X's teleop_state had not reached the window yet
     qtbot.waitUntil(lambda: not tab._task.busy(), timeout=5000)
-    assert 'FAILED: joint 0 refused: ' + why in tab.message.text()
+    assert 'FAILED: refused: ' + why in tab.message.text()
 
 
 def test_a_clamped_or_uncalibrated_reading_is_not_captured(tab, arm):
@@ -247,18 +251,22 @@ def test_the_check_names_a_joint_that_moves_the_wrong_way(tab, arm):
     assert '[4]' in tab.message.text() and 'WRONG' in tab.table.item(4, 7).text()
 
 
-def test_apply_changes_stops_at_the_first_failure():
+def test_apply_changes_sends_every_joint_in_one_request_and_stores_all_or_none():
     calls = []
 
-    def set_config(joint, values):
-        calls.append(joint)
-        if joint == 2:
+    def set_arm_config(values):
+        calls.append(values)
+        if len(calls) == 2:
             raise RuntimeError('no service')
-        return SetAnswer(True, '', values)
+        return SetAnswer(len(calls) == 1, '' if len(calls) == 1 else 'joint 2 bad', {})
 
-    applied = procedure.apply_changes(set_config, {j: {'sign_angle': 1.0} for j in (3, 0, 2, 1)})
-    assert applied.written == [0, 1] and calls == [0, 1, 2]
-    assert 'joint 2: no service' == applied.error
+    values = {j: {'sign_angle': 1.0} for j in (3, 0, 2, 1)}
+    assert procedure.apply_changes(set_arm_config, values) == procedure.Applied([0, 1, 2, 3], '')
+    assert calls == [{j: {'sign_angle': 1.0} for j in (0, 1, 2, 3)}]
+    assert procedure.apply_changes(set_arm_config, values) == procedure.Applied([], 'no service')
+    assert procedure.apply_changes(set_arm_config, values) == procedure.Applied(
+        [], 'refused: joint 2 bad')
+    assert len(calls) == 3
 
 
 def test_end_piece_press_has_hysteresis():

@@ -5,7 +5,7 @@ from types import SimpleNamespace as Msg
 import numpy as np
 import pytest
 
-from robopuppet.episodes import export
+from robopuppet.episodes import export, export_stream, export_writers
 from robopuppet.episodes.export import Samples
 
 T0 = 100.0  # grid 100.0, 100.0625, 100.125 at 16 Hz: binary fractions, so sums are exact
@@ -128,7 +128,7 @@ def test_csv_lines_are_rethinks_rows():
 
 def test_plot_series_maps_the_driving_puppet_onto_the_arm():
     recording = export.collect(messages())
-    series = export.plot_series(recording, export.aloha_arrays(recording, RATE_HZ))
+    series = export_writers.plot_series(recording, export.aloha_arrays(recording, RATE_HZ))
     assert list(series) == ['right']
     right = series['right']
     assert right['driver'] == 'R'
@@ -144,6 +144,67 @@ def test_the_opposite_arm_mirrors_joints_0_2_4_6():
     command = ('/robot/limb/left/joint_command', Msg(mode=1, names=LEFT, command=[0.0] * 7), T0)
     recording = export.collect([m for m in messages() if 'right' not in m[0]]
                                + [following, command])
-    series = export.plot_series(recording, export.aloha_arrays(recording, RATE_HZ))
+    series = export_writers.plot_series(recording, export.aloha_arrays(recording, RATE_HZ))
     assert list(series) == ['left'] and series['left']['driver'] == 'R'
     assert series['left']['puppet'][0].tolist() == [-0.3, 0.2, -0.1, 0, 0, 0, -0.6]
+
+
+def long_messages(puppet_end_s):
+    """An episode of 4 s in time order: Baxter's joint states at 64 Hz, the right arm's
+    commands at 32 Hz, its gripper's state, the puppet's angles and end piece at 8 Hz (coarser
+    than the 16 Hz grid: rows between two samples interpolate), until T0 + puppet_end_s for
+    the puppet's. At each time the joint states come first: the stream's flushes (every 2 s)
+    fall on them, before the other topics' messages of that time."""
+    out = [('/puppet/arm_R/teleop_state', Msg(follow_left=False, follow_right=True), T0)]
+    for k in range(4 * 64 + 1):
+        t = T0 + k / 64.0
+        out.append(joint_states(t, 0.5 * np.sin(k / 10.0)))
+        if k % 2 == 0:
+            out.append(('/robot/limb/right/joint_command',
+                        Msg(mode=1, names=RIGHT, command=[np.cos(k / 7.0)] * 7), t))
+        if k % 8:
+            continue
+        out.append(('/robot/end_effector/right_gripper/state',
+                    Msg(position=100.0 if k % 16 else 30.0, force=float(k % 50)), t))
+        if k % 64 == 0:
+            out.append(('/robot/end_effector/right_gripper/command',
+                        Msg(command='go', args='{"position": %d}' % (k % 128)), t))
+        if t <= T0 + puppet_end_s:
+            out.append(('/puppet/arm_R/joint_states',
+                        Msg(name=['joint_%d' % j for j in range(7)],
+                            position=[np.sin(k / 9.0 + j) for j in range(7)]), t))
+            out.append(('/puppet/arm_R/gripper_3', Msg(data=float(k % 16 == 0)), t))
+    return out
+
+
+@pytest.mark.parametrize('puppet_end_s', [2.0, 4.0])
+def test_the_streamed_rows_and_plot_series_are_the_whole_episodes(puppet_end_s):
+    """export_stream hands out, block by block, aloha_arrays' rows and plot_series' series,
+    also where a topic's last message comes after another topic's message of the same time
+    (its rows must wait for it, not hold the value before)."""
+    messages_ = long_messages(puppet_end_s)
+    recording = export.collect(messages_)
+    whole = export.aloha_arrays(recording, RATE_HZ)
+    topic_end_s = {}
+    for topic, _, t in messages_:
+        topic_end_s[topic] = t
+    times = recording.position.times
+    stream = export_stream.EpisodeStream(RATE_HZ, times[0], times[-1], topic_end_s, plot=True)
+    blocks = [block for m in messages_ for block in stream.add(*m)] + stream.finish()
+    assert len(blocks) > 2 and [b['start'] for b in blocks] == list(np.cumsum(
+        [0] + [len(b['time']) for b in blocks[:-1]]))
+    rows = {key: np.concatenate([b[key] for b in blocks]) for key in whole}
+    for key in whole:
+        np.testing.assert_allclose(rows[key], whole[key], rtol=0, atol=1e-12, err_msg=key)
+    streamed = export_writers.plot_rows(
+        rows, *[{s: np.concatenate([b[key][s] for b in blocks]) for s in export.PUPPET_SIDES}
+                for key in ('puppet', 'end_piece')],
+        stream.commanded_sides, stream.puppet_sides, stream.follow)
+    expected = export_writers.plot_series(recording, whole)
+    assert list(streamed) == list(expected) == ['right']
+    for key, value in expected['right'].items():
+        if key == 'driver':
+            assert streamed['right'][key] == value == 'R'
+        else:
+            np.testing.assert_allclose(streamed['right'][key], value, rtol=0, atol=1e-12,
+                                       err_msg=key)

@@ -150,6 +150,18 @@ def test_arm_controller_always_and_gui_on_request():
     assert params['/arm_R/arm_side'] == 'R'
 
 
+@pytest.mark.parametrize('launch, args', [
+    ('arm.launch', ['arm_side:=R']), ('arm.launch', ['arm_side:=L', 'host:=operator']),
+    ('main_sim.launch', []), ('operator.launch', ['run_side_L:=false'])])
+def test_the_config_node_respawns_soon_after_it_dies(launch, args):
+    """A config node killed mid-calibration comes back, so that Undo can run (issue 32)."""
+    nodes, _ = load(*args, launch=os.path.join(LAUNCH_DIR, launch))
+    configs = [node for name, node in nodes.items() if name.startswith('config_')]
+    assert configs
+    for node in configs:
+        assert node.respawn and 0 < node.respawn_delay <= 2.0, node.name
+
+
 @pytest.mark.parametrize('name', LAUNCH_FILES)
 def test_every_argument_is_documented(name):
     args = ET.parse(os.path.join(LAUNCH_DIR, name)).getroot().findall('arg')
@@ -257,4 +269,4 @@ def test_an_unknown_host_is_refused_by_name():
     if any(n in open(p).read() for n in LAUNCH_FILES)))
 def test_every_rostest_file_that_includes_a_launch_file_still_loads(path):
     nodes, _ = load(launch=path)
-    assert any(n.startswith(('serial_', 'baxter_sim')) for n in nodes)
+    assert any(n.startswith(('serial_', 'baxter_sim', 'recorder')) for n in nodes), nodes

@@ -37,6 +37,7 @@ ADAPTERS = {
     'episodes.replay_node', 'episodes.puppet_player', 'episodes.player',
     'cameras.camera_node', 'cameras.republish_node', 'gui.camera_client',
     'cameras.sim_camera_node', 'cameras.node_loops',
+    'link_recovery',   # the nodes' shared watch on rospy's connections across the link
 }
 # The GUI's widgets are Qt by nature; they may import Qt but not rospy.
 QT_MODULES_OK = 'gui'

@@ -1,11 +1,13 @@
-"""A request to the config node: checked together, stored all or none, written once, counted."""
+"""A request to the config node (one joint, or several: a calibration): checked together, stored
+all or none, written once, counted."""
 import errno
+import os
 
 import pytest
 
 from robopuppet import settings
-from robopuppet.config import config_store
-from robopuppet.config.settings_keeper import SettingsKeeper
+from robopuppet.config import config_file, config_store
+from robopuppet.config.settings_keeper import SettingsKeeper, check_arm_request
 
 PATH = '/nowhere/arm_R.ini'
 F32 = config_store.to_float32
@@ -167,3 +169,92 @@ def test_while_an_arm_follows_other_settings_and_unchanged_values_are_stored():
     assert answer.stored and answer.written and store.revision == 1
     answer = store.request(4, ['home_angle', 'sign_angle'], [0.5, -1.0], frozen=FROZEN)
     assert answer.error.startswith('joint 4 home_angle and sign_angle change what')
+
+
+# A calibration: every joint's home_angle and sign_angle in one request (issue 32).
+CALIBRATION = [(joint, ['home_angle', 'sign_angle'], [0.1 * joint, -1.0])
+               for joint in settings.JOINTS]
+
+
+def file_keeper(tmp_path):
+    """A keeper of a real ini file written by config_file.write_atomic; return it and the path."""
+    path = str(tmp_path / 'arm_R.ini')
+    loaded = config_file.load_or_create(path, '', 'stamp')
+    assert loaded.unwritable == '' and loaded.problems == []
+    return SettingsKeeper(loaded.config, loaded.text, '', path, config_file.write_atomic), path
+
+
+def test_one_bad_value_in_joint_5_of_an_arm_request_writes_nothing(tmp_path):
+    store, path = file_keeper(tmp_path)
+    before = open(path, 'rb').read()
+    changes = list(CALIBRATION)
+    changes[5] = (5, ['home_angle', 'sign_angle'], [0.5, 0.5])   # not a sign
+    answer = store.request_arm(changes)
+    assert not answer.stored and not answer.written and not answer.persistence
+    assert answer.error == 'joint 5 sign_angle = 0.5: a sign must be +1 or -1'
+    assert answer.values == [config_store.defaults()[j] for j in settings.JOINTS]
+    assert open(path, 'rb').read() == before, 'the ini is byte-identical'
+    assert sorted(os.listdir(str(tmp_path))) == ['arm_R.ini'], 'no temporary left'
+    assert store.revision == 0 and store.all_joints()[1] == answer.values
+
+
+def test_an_arm_request_is_written_with_one_replace_and_counts_one_revision(tmp_path):
+    store, path = file_keeper(tmp_path)
+    writes = []
+    store._write = lambda p, text: writes.append(text) or config_file.write_atomic(p, text)
+    answer = store.request_arm(CALIBRATION)
+    assert answer.stored and answer.written and answer.error == ''
+    assert len(writes) == 1 and store.revision == 1
+    with open(path) as ini:
+        on_disk, problems = config_store.parse(ini.read())
+    assert problems == []
+    for joint in settings.JOINTS:
+        wanted = dict(config_store.defaults()[joint], home_angle=F32(0.1 * joint),
+                      sign_angle=-1.0)
+        assert on_disk[joint] == wanted == answer.values[joint] == store.joint(joint)
+    assert store.request_arm(CALIBRATION) == (True, '', answer.values, False, False), \
+        'the same calibration again: stored, nothing written'
+    assert len(writes) == 1 and store.revision == 1
+
+
+@pytest.mark.parametrize('changes, problems', [
+    ([(2, ['pid_kp'], [1.0]), (2, ['pid_ki'], [1.0])],
+     ('joint 2 is named twice in one request',)),
+    ([(1, ['pid_kp'], [1.0]), (9, ['pid_kp'], [1.0])],
+     ('joint 9 does not exist: valid joints are 0-6',)),
+    ([(0, ['angle_min'], [2.0]), (6, ['pid_kq', 'sign_motor'], [1.0, 0.0])],
+     ('joint 0 angle_min = 2.0: above angle_max = 1.571', "joint 6: unknown setting 'pid_kq'",
+      'joint 6 sign_motor = 0.0: a sign must be +1 or -1')),
+])
+def test_an_arm_request_names_every_problem_of_every_joint(changes, problems):
+    with pytest.raises(config_store.InvalidSetting) as error:
+        check_arm_request(config_store.defaults(), changes)
+    assert error.value.problems == problems
+    store, disk = keeper()
+    assert store.request_arm(changes).error == '; '.join(problems)
+    assert disk.writes == [] and store.revision == 0
+
+
+def test_a_calibration_is_refused_whole_while_an_arm_follows():
+    store, disk = keeper()
+    changes = [(0, ['home_angle', 'pid_kp'], [0.5, 1.0]), (3, ['pid_kd'], [0.5]),
+               (4, ['sign_angle', 'home_angle'], [-1.0, 0.0])]   # joint 4's home unchanged
+    answer = store.request_arm(changes, frozen=FROZEN)
+    assert not answer.stored and not answer.written and not answer.persistence
+    assert answer.error == ("joint 0 home_angle, joint 4 sign_angle change what the puppet's "
+                            'angles mean, and ' + FROZEN)
+    assert disk.writes == [] and store.revision == 0
+    assert store.request_arm([(0, ['pid_kp'], [1.0]), (3, ['pid_kd'], [0.5])],
+                             frozen=FROZEN).written, 'other settings may change'
+    assert store.request_arm(changes).written and store.revision == 2
+
+
+def test_an_arm_request_to_an_unwritable_or_failing_file_changes_nothing():
+    store, disk = keeper(unwritable='cannot repair /nowhere/arm_R.ini: Read-only file system')
+    answer = store.request_arm(CALIBRATION)
+    assert not answer.stored and answer.persistence and 'will not persist' in answer.error
+    store, disk = keeper()
+    disk.error = OSError(errno.ENOSPC, 'No space left on device')
+    answer = store.request_arm(CALIBRATION)
+    assert not answer.stored and answer.persistence and 'No space left' in answer.error
+    assert store.all_joints() == (0, [config_store.defaults()[j] for j in settings.JOINTS])

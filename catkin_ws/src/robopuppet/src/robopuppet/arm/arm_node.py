@@ -4,6 +4,7 @@ import gc
 import threading
 import time
 
+import rosgraph
 import rospy
 from baxter_core_msgs.msg import (AssemblyState, EndEffectorCommand, EndEffectorState,
                                   JointCommand)
@@ -14,6 +15,7 @@ from std_msgs.msg import Bool, Empty, Float32, String, UInt8
 from robopuppet import baxter_description, interface as ifc, params, settings
 from robopuppet.arm import (baxter_upkeep, controller, link_topics, opmode as puppet_mode,
                             timing, zone_topics)
+from robopuppet.link_recovery import LinkRecovery, answers
 from robopuppet.periodic import Guard, Loop
 from robopuppet_msgs.msg import ArmSettings, TeleopState
 
@@ -51,6 +53,8 @@ class ArmNode:
         (robopuppet_msgs/LinkPing, 10 Hz, tcp_nodelay) and subscribes <ns>/link_echo (serial_X
         answers each ping with its own clock); publishes <ns>/link_state (robopuppet_msgs/
         LinkState, 5 Hz) and /diagnostics (name 'arm_X: operator-robot link', hardware_id <ns>).
+        After a cut, link_recovery connects anew to the operator host's publishers once
+        <ns>/joint_states or <ns>/link_echo is stuck and the host answers again.
       Parameters: ~arm_side ('L' or 'R', required), ~command_rate (Hz, 100, at least 10),
         ~comm_rate (Hz, 10: the puppet's state-set rate; the state timeout follows from it, see
         arm.timing), ~heartbeat_timeout (s, 2.5), ~approach_speed (rad/s, 0.5, capped per joint
@@ -75,6 +79,7 @@ class ArmNode:
             (rospy.loginfo if told.meets_stop else rospy.logwarn)('%s: %s', self._name,
                                                                    told.describe())
         self._lock, self._guard = threading.Lock(), Guard(self._name, rospy.logerr)
+        self._last_opmode = ''
         path = zone_topics.zones_file()
         zone_guards, found = zone_topics.load_guards(path)
         rospy.loginfo('%s: %d keep-out zones%s', self._name, len(found),
@@ -131,11 +136,28 @@ class ArmNode:
         self._loops = [Loop(self._guard, 'command loop', self._period_s / 2,
                             lambda: call(self._on_timer)),
                        Loop(self._guard, 'watchdog', WATCHDOG_PERIOD_S, self._watch),
-                       link_topics.LinkTopics(ns, core, call, self._guard, self._name).loop]
+                       link_topics.LinkTopics(ns, core, call, self._guard, self._name).loop,
+                       LinkRecovery(self._name, [ns + '/' + ifc.JOINT_STATES,
+                                                 ns + '/' + ifc.LINK_ECHO]).loop]
         core.done(time.monotonic())  # the stall watch counts from here, not from the set-up
         for loop in self._loops:
             loop.start()
-        rospy.on_shutdown(lambda: [loop.stop() for loop in self._loops])
+        rospy.on_shutdown(self._shut_down)
+
+    def _shut_down(self):
+        """Stop the loops, then tell the operator host why nothing follows any more: a last
+        teleop_state (fault) and a log line; Baxter holds on its command timeout."""
+        for loop in self._loops:
+            loop.stop()
+        with self._lock:
+            why = ('the ROS master does not answer (roslaunch stops its nodes with it)'
+                   if not answers(rosgraph.get_master_uri()) else 'shut down')
+            detail = ('%s stopped: %s; Baxter holds where it is until %s runs again'
+                      % (self._name, why, self._name))
+            rospy.logwarn('%s', detail)
+            msg = TeleopState(state=ifc.FAULT, opmode=self._last_opmode, detail=detail)
+            msg.header.stamp = rospy.Time.now()
+            self._pub_state.publish(msg)
 
     def _call(self, method, *args):
         """Return method(now, *args) with the lock held (now: monotonic s)."""
@@ -205,6 +227,7 @@ class ArmNode:
     def _publish(self, r):
         if r.changed:
             rospy.loginfo('%s: %s (%s)', self._name, r.state, r.detail)
+        self._last_opmode = r.opmode
         msg = TeleopState(state=r.state, follow_left=r.follow_left, follow_right=r.follow_right,
                           opmode=r.opmode, heartbeat_age=r.heartbeat_age_s, detail=r.detail,
                           zone_left=r.zone_left, zone_right=r.zone_right)

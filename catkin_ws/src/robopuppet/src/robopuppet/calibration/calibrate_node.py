@@ -1,12 +1,12 @@
 """calibrate: the calibration procedure in a terminal, `rosrun robopuppet calibrate --side R`.
 
 Prompts for each pose of procedure.POSES (capture on Enter, 'r' takes the previous pose again,
-'q' quits), solves, shows old and new values with each joint's residual, and stores them with
-set_config after a 'y' (or at once with --yes; with --dry-run never). Lines may come from a
-pipe, for scripts (tests/integration/test_calibration_command.py), each Enter sent once the
-puppet is posed. While a pose is awaited it is published for RViz's calibration target ghost.
-Exit status: 0 stored (or dry run), 1 quit, Ctrl-C or no puppet, 2 a joint flagged, 3 a store
-failed.
+'q' quits), solves, shows old and new values with each joint's residual, and stores them all or
+none with one set_arm_config request after a 'y' (or at once with --yes; with --dry-run never).
+Lines may come from a pipe, for scripts (tests/integration/test_calibration_command.py), each
+Enter sent once the puppet is posed. While a pose is awaited it is published for RViz's
+calibration target ghost. Exit status: 0 stored (or dry run), 1 quit, Ctrl-C or no puppet, 2 a
+joint flagged, 3 the store failed (nothing stored).
 """
 import argparse
 import sys
@@ -18,8 +18,8 @@ from std_msgs.msg import Float32, String
 
 from robopuppet import interface, settings
 from robopuppet.calibration import procedure
-from robopuppet_msgs.msg import ArmSettings
-from robopuppet_msgs.srv import SetConfig
+from robopuppet_msgs.msg import ArmSettings, JointChange
+from robopuppet_msgs.srv import SetArmConfig
 
 WAIT_S = 10.0
 
@@ -28,7 +28,7 @@ class ArmReader:
     """Keep the latest encoder statuses, angles and stored settings of one puppet arm.
 
     Subscribes (under /puppet/arm_<side>): joint_J/enc_stat, joint_J/angle, stored_settings.
-    Calls: set_config (robopuppet_msgs/SetConfig).
+    Calls: set_arm_config (robopuppet_msgs/SetArmConfig).
     Publishes: calibration_target (sensor_msgs/JointState, procedure.TARGET_TOPIC) at
         procedure.TARGET_RATE_HZ while show_target has a pose, nothing otherwise.
     """
@@ -51,7 +51,7 @@ class ArmReader:
                                  self._on_reading, callback_args=(joint, 0), queue_size=10),
                 rospy.Subscriber(interface.joint_topic(side, joint, 'angle'), Float32,
                                  self._on_reading, callback_args=(joint, 1), queue_size=10)]
-        self._set = rospy.ServiceProxy('%s/%s' % (ns, interface.SET_CONFIG), SetConfig)
+        self._set = rospy.ServiceProxy('%s/%s' % (ns, interface.SET_ARM_CONFIG), SetArmConfig)
 
     def _on_stored(self, msg):
         stored = {j.joint: {n: getattr(j, n) for n in settings.NAMES} for j in msg.joints}
@@ -83,11 +83,13 @@ class ArmReader:
         with self._lock:
             return list(self._readings), self._stored
 
-    def set_config(self, joint, values):
-        """Store {name: value} of a joint, all or none; RuntimeError when the call fails."""
+    def set_arm_config(self, values):
+        """Store {joint: {name: value}} in one request, all or none; RuntimeError when the call
+        fails."""
         try:
             self._set.wait_for_service(WAIT_S)
-            return self._set(joint, list(values), list(values.values()))
+            return self._set([JointChange(joint, list(v), list(v.values()))
+                              for joint, v in values.items()])
         except (rospy.ROSException, rospy.ServiceException) as error:
             raise RuntimeError(str(error)) from None
 
@@ -142,12 +144,12 @@ def run(reader, assume_yes, dry_run):
     if dry_run or not (assume_yes or ask('Store the new values? [y/N] ') == 'y'):
         print('Nothing stored.')
         return 0 if dry_run else 1
-    applied = procedure.apply_changes(reader.set_config, {c.joint: c.new for c in changes})
-    print('stored joints %s' % applied.written)
+    applied = procedure.apply_changes(reader.set_arm_config, {c.joint: c.new for c in changes})
     if applied.error:
-        print('STORE FAILED: %s. The joints above keep their new values; the old ones are in '
-              'the table.' % applied.error)
+        print('STORE FAILED: %s. Nothing stored: every joint keeps its old values (in the '
+              'table).' % applied.error)
         return 3
+    print('stored joints %s' % applied.written)
     return 0
 
 

@@ -3,11 +3,11 @@
 Pure: no ROS, no Qt, no clock (time t in s is passed in). Angles in rad, voltages in V.
 
 For each joint in turn: every other joint's PID voltage is limited to 0 V and this joint's to
-+-SAFE_VOLTAGE_V (set_config of voltage_min and voltage_max), the puppet holds its current
-angles, the joint's setpoint moves STEP_RAD up (down when that would pass angle_max), and the
-reported angle shows the sign: toward the setpoint, sign_motor is right; away from it, wrong;
-neither within WATCH_S, unknown (the joint is held, or carries more weight than the safe voltage
-lifts: let the arm hang down). Then limp. At the end, on a failure and on
++-SAFE_VOLTAGE_V (voltage_min and voltage_max, every joint in one request), the puppet holds
+its current angles, the joint's setpoint moves STEP_RAD up (down when that would pass
+angle_max), and the reported angle shows the sign: toward the setpoint, sign_motor is right;
+away from it, wrong; neither within WATCH_S, unknown (the joint is held, or carries more weight
+than the safe voltage lifts: let the arm hang down). Then limp. At the end, on a failure and on
 cancel the stored voltage limits of every joint come back (restore_values).
 
 The adapter runs a MotorCheck by calling update(t, angles, voltages) with every reading and
@@ -33,8 +33,9 @@ RIGHT, WRONG, UNKNOWN = 'right', 'wrong', 'did not move'
 
 Command = collections.namedtuple('Command', 'kind joint values')
 Command.__doc__ = """What the adapter does now: kind 'store' (values: {joint: {name: value}},
-one set_config per joint, then stored()), 'hold' (send the current angles as setpoints, then
-hold), 'setpoint' (joint's setpoint to values, rad), 'limp', or 'wait' (nothing)."""
+one all-or-none request for all of them, then stored()), 'hold' (send the current angles as
+setpoints, then hold), 'setpoint' (joint's setpoint to values, rad), 'limp', or 'wait'
+(nothing)."""
 WAIT = Command('wait', None, None)
 
 

@@ -7,7 +7,8 @@ text, reported angle rad).
 Steps: every quadrature joint Working (joints_to_turn), then one capture per pose of POSES
 (Session.capture turns the reported angles back into raw encoder angles with the stored
 settings), then solve (solver.solve) and the old and new values side by side (Session.changes),
-then apply_changes (one all-or-none set_config per joint), and undo with the old values.
+then apply_changes (one all-or-none set_arm_config request for every joint: config_X stores
+all of them with one file replace, or none), and undo with the old values the same way.
 DirectionCheck then asks for each joint to be moved in Baxter's positive direction.
 
 While a pose is awaited, the wizard and the command publish it on TARGET_TOPIC (target_state)
@@ -42,8 +43,8 @@ Change = collections.namedtuple('Change', 'joint old new fit')
 Change.__doc__ = """One joint's calibration: old and new {'home_angle', 'sign_angle'} and the
 solver.JointFit behind new."""
 Applied = collections.namedtuple('Applied', 'written error')
-Applied.__doc__ = """What apply_changes did: written, the joints stored (in order), and error,
-'' or why the next joint was not stored (the joints after it were not tried)."""
+Applied.__doc__ = """What apply_changes did: written, the joints stored (in order: every joint of
+the request, or none), and error, '' or why nothing was stored."""
 
 
 class CaptureError(ValueError):
@@ -134,22 +135,21 @@ def changes_table(changes):
     return '\n'.join(lines)
 
 
-def apply_changes(set_config, values):
-    """Store {joint: {name: value}} with one set_config(joint, values) per joint, in order.
+def apply_changes(set_arm_config, values):
+    """Store {joint: {name: value}} in one all-or-none request: set_arm_config(values).
 
-    set_config returns an answer with .stored and .error (gui.puppet_client.SetAnswer) or raises
-    a RuntimeError; the first refusal or error stops the run. Returns an Applied.
+    set_arm_config returns an answer with .stored and .error (gui.puppet_client.SetAnswer) or
+    raises a RuntimeError (the request may not have reached config_X: it stored all or none).
+    Returns an Applied: every joint written, or none and why.
     """
-    written = []
-    for joint, joint_values in sorted(values.items()):
-        try:
-            answer = set_config(joint, dict(joint_values))
-        except RuntimeError as error:
-            return Applied(written, 'joint %d: %s' % (joint, error))
-        if not answer.stored:
-            return Applied(written, 'joint %d refused: %s' % (joint, answer.error))
-        written.append(joint)
-    return Applied(written, '')
+    values = {joint: dict(joint_values) for joint, joint_values in sorted(values.items())}
+    try:
+        answer = set_arm_config(values)
+    except RuntimeError as error:
+        return Applied([], str(error))
+    if not answer.stored:
+        return Applied([], 'refused: %s' % answer.error)
+    return Applied(list(values), '')
 
 
 class EndPiecePress:

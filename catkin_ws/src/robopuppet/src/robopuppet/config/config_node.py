@@ -9,10 +9,11 @@ from std_msgs.msg import Float32, String
 
 from robopuppet import interface, settings
 from robopuppet.config import config_file, config_store, feel_profile
-from robopuppet.config.follow_lock import FollowLock
+from robopuppet.config.follow_lock import TELEOP_STALE_S, FollowLock
 from robopuppet.config.settings_keeper import SettingsKeeper
 from robopuppet_msgs.msg import ArmSettings, JointSettings, TeleopState
-from robopuppet_msgs.srv import GetConfig, GetConfigResponse, SetConfig, SetConfigResponse
+from robopuppet_msgs.srv import (GetConfig, GetConfigResponse, SetArmConfig,
+                                 SetArmConfigResponse, SetConfig, SetConfigResponse)
 
 
 class ConfigNode:
@@ -23,8 +24,11 @@ class ConfigNode:
         maximum after the whole request, the file written atomically; no change of what the
         puppet's angles mean, settings.ANGLE_SETTINGS, while <ns>/teleop_state says a Baxter arm
         follows: config.follow_lock); the answer holds what is stored now and, when refused,
-        why. <ns>/get_config (robopuppet_msgs/GetConfig): the twelve settings of a joint; a
-        joint outside 0..6 is a service error naming the range.
+        why. <ns>/set_arm_config (robopuppet_msgs/SetArmConfig): settings of several joints
+        in one request (a calibration and its undo), checked as set_config's, stored all or
+        none with one atomic replace of the file and one revision (request_arm); the answer
+        holds all seven joints as stored now. <ns>/get_config (robopuppet_msgs/GetConfig): the
+        twelve settings of a joint; a joint outside 0..6 is a service error naming the range.
     Publishes: <ns>/stored_settings (robopuppet_msgs/ArmSettings, latched): all seven joints,
         at start and after every change written to the file; revision counts those changes.
         <ns>/active_settings (robopuppet_msgs/ArmSettings, latched; serial_X loads it into the
@@ -35,7 +39,10 @@ class ConfigNode:
         settings.SETTINGS (the 2020 topics): each message is a one-setting set_config request.
         <ns>/opmode (std_msgs/String: limp, hold or feel): feel selects the feel profile, limp
         and hold the stored one; a repeat of the current mode changes nothing.
-        <ns>/teleop_state (robopuppet_msgs/TeleopState, arm_X's): whether an arm follows.
+        <ns>/teleop_state (robopuppet_msgs/TeleopState, arm_X's, latched): whether an arm
+        follows. While arm_X publishes it, the node serves nothing before it has heard it
+        (at most follow_lock.TELEOP_STALE_S), so that a node respawned while an arm follows
+        never takes a new home_angle in its first moments.
     Every refusal is logged: a warning for a refused value, an error when the change would not
     persist. While the file cannot be written (read-only directory, full disk at start) every
     request is refused with that reason.
@@ -73,6 +80,7 @@ class ConfigNode:
                                       config_file.write_atomic)
         self._lock = threading.Lock()  # one request at a time; publishes in revision order
         self._follow_lock = FollowLock()   # only under self._lock
+        self._heard_teleop = threading.Event()
         self._feel = config_store.parse_feel(loaded.text)[0]
         rospy.loginfo('%s: feel mode gains from %s: %s', self._ns, path, ', '.join(
             '%s = %s' % (n, config_store.format_value(v)) for n, v in self._feel.items()))
@@ -91,13 +99,24 @@ class ConfigNode:
         self._subscribers.append(rospy.Subscriber(
             '%s/%s' % (self._ns, interface.TELEOP_STATE), TeleopState, self._on_teleop_state,
             queue_size=1))
+        self._await_teleop_state()
         self._services = [
             rospy.Service('%s/%s' % (self._ns, interface.SET_CONFIG), SetConfig,
                           self._set_config),
+            rospy.Service('%s/%s' % (self._ns, interface.SET_ARM_CONFIG), SetArmConfig,
+                          self._set_arm_config),
             rospy.Service('%s/%s' % (self._ns, interface.GET_CONFIG), GetConfig,
                           self._get_config)]
-        rospy.loginfo('serving %s/%s and %s/%s from %s', self._ns, interface.GET_CONFIG,
-                      self._ns, interface.SET_CONFIG, path)
+        rospy.loginfo('serving %s/%s, %s and %s from %s', self._ns, interface.GET_CONFIG,
+                      interface.SET_CONFIG, interface.SET_ARM_CONFIG, path)
+
+    def _await_teleop_state(self):
+        """Wait (at most TELEOP_STALE_S) for arm_X's latched teleop_state, if arm_X runs."""
+        topic = '%s/%s' % (self._ns, interface.TELEOP_STATE)
+        if (any(name == topic for name, _ in rospy.get_published_topics())
+                and not self._heard_teleop.wait(TELEOP_STALE_S)):
+            rospy.logwarn('%s: no %s within %g s: serving anyway', self._ns, topic,
+                          TELEOP_STALE_S)
 
     def _get_config(self, request):
         with self._lock:
@@ -107,37 +126,47 @@ class ConfigNode:
                 raise rospy.ServiceException(str(error))
 
     def _set_config(self, request):
-        answer = self._store(request.joint, list(request.names), list(request.values))
+        answer = self._store([(request.joint, list(request.names), list(request.values))])[0]
         return SetConfigResponse(answer.stored, answer.error,
                                  JointSettings(joint=request.joint, **(answer.values or {})))
 
+    def _set_arm_config(self, request):
+        answer, revision = self._store([(change.joint, list(change.names), list(change.values))
+                                        for change in request.joints], arm=True)
+        return SetArmConfigResponse(answer.stored, answer.error, ArmSettings(
+            revision=revision, joints=[JointSettings(joint=joint, **values)
+                                       for joint, values in enumerate(answer.values)]))
+
     def _on_setting(self, msg, key):
         joint, name = key
-        self._store(joint, [name], [msg.data])
+        self._store([(joint, [name], [msg.data])])
 
-    def _store(self, joint, names, values):
-        """Apply a request, publish what is stored if it changed, log the outcome."""
+    def _store(self, changes, arm=False):
+        """Apply a request of [(joint, names, values)] (arm: request_arm's, else request's of
+        its one joint), publish what is stored if it changed, log the outcome; return the
+        Answer and the revision after it."""
         with self._lock:
-            answer = self._keeper.request(joint, names, values,
-                                          self._follow_lock.why(time.monotonic()))
+            frozen = self._follow_lock.why(time.monotonic())
+            answer = (self._keeper.request_arm(changes, frozen) if arm
+                      else self._keeper.request(*changes[0], frozen))
             revision = self._keeper.revision
             if answer.written:
                 self._publish()
-        what = ', '.join('%s = %r' % item for item in zip(names, values))
+        what = '; '.join('joint %d %s' % (joint, ', '.join(
+            '%s = %r' % item for item in zip(names, values))) for joint, names, values in changes)
         if answer.written:
-            rospy.loginfo('joint %d %s saved to %s (revision %d)', joint, what, self._path,
-                          revision)
+            rospy.loginfo('%s saved to %s (revision %d)', what, self._path, revision)
         elif answer.persistence:
-            rospy.logerr('%s: refused joint %d %s: %s; settings unchanged', self._ns, joint,
-                         what, answer.error)
+            rospy.logerr('%s: refused %s: %s; settings unchanged', self._ns, what, answer.error)
         elif not answer.stored:
             rospy.logwarn('%s: refused %s; file and settings unchanged', self._ns, answer.error)
-        return answer
+        return answer, revision
 
     def _on_teleop_state(self, msg):
         with self._lock:
             self._follow_lock.on_teleop_state(time.monotonic(), msg.follow_left,
                                               msg.follow_right)
+        self._heard_teleop.set()
 
     def _on_opmode(self, msg):
         if msg.data not in interface.OPMODES:

@@ -13,9 +13,8 @@ import json
 import numpy as np
 
 from robopuppet.arm.baxter_upkeep import CMD_GO, POSITION_OPEN
-from robopuppet.arm.joint_motion import mirror
 from robopuppet.baxter_description import arm_joint_names
-from robopuppet.interface import (BAXTER_SIDE, BAXTER_SIDES, END_PIECE_GRIPPER, JOINT_STATES,
+from robopuppet.interface import (BAXTER_SIDES, END_PIECE_GRIPPER, JOINT_STATES,
                                   PUPPET_SIDES, ROBOT_JOINT_STATES, TELEOP_STATE,
                                   baxter_gripper_topic, gripper_topic, limb_topic, puppet_ns)
 
@@ -76,42 +75,72 @@ def episode_topics():
     return topics
 
 
+def message_values(topic, msg):
+    """Return [(series, values)] that one message adds to a Recording: series a key of
+    Recording (position, velocity, effort) or a (key, side) pair; [] for any other topic."""
+    if topic == ROBOT_JOINT_STATES:
+        return [(field, _by_name(msg.name, getattr(msg, field), ARM_JOINTS))
+                for field in ('position', 'velocity', 'effort')]
+    return [((key, side), value(msg)) for key, side, value in _TOPIC_VALUES.get(topic, ())
+            if value(msg) is not None]
+
+
+def _topic_values():
+    """Return {topic: [(Recording key, side, msg -> values or None)]} of the series topics."""
+    table = collections.defaultdict(list)
+    for side in BAXTER_SIDES:
+        names = arm_joint_names(side)
+        table[limb_topic(side, 'joint_command')].append((
+            'command', side, lambda m, names=names: _by_name(m.names, m.command, names)
+            if m.mode in POSITION_MODES else None))
+        state = baxter_gripper_topic(side, 'state')
+        table[state].append(('gripper_state', side, lambda m: [m.position]))
+        table[state].append(('gripper_force', side, lambda m: [m.force]))
+        table[baxter_gripper_topic(side, 'command')].append((
+            'gripper_go', side, lambda m: [_go_position(m.args)]
+            if m.command == CMD_GO and _go_position(m.args) is not None else None))
+    joints = ['joint_%d' % j for j in range(7)]
+    for side in PUPPET_SIDES:
+        table['%s/%s' % (puppet_ns(side), JOINT_STATES)].append((
+            'puppet', side, lambda m: _by_name(m.name, m.position, joints)))
+        table[gripper_topic(side, END_PIECE_GRIPPER)].append(('end_piece', side,
+                                                              lambda m: [m.data]))
+    return dict(table)
+
+
+_TOPIC_VALUES = _topic_values()
+SERIES_WIDTH = {'position': len(ARM_JOINTS), 'velocity': len(ARM_JOINTS),
+                'effort': len(ARM_JOINTS), 'command': 7, 'gripper_state': 1, 'gripper_force': 1,
+                'gripper_go': 1, 'puppet': 7, 'end_piece': 1}
+
+
+def follows(topic, msg):
+    """Return the Baxter sides a puppet's teleop_state message says it follows, with the
+    puppet side: (puppet side, [Baxter sides]); None for any other topic."""
+    for side in PUPPET_SIDES:
+        if topic == '%s/%s' % (puppet_ns(side), TELEOP_STATE):
+            return side, [s for s in BAXTER_SIDES if getattr(msg, 'follow_' + s)]
+    return None
+
+
 def collect(messages):
     """Return the Recording of an episode's (topic, msg, t) messages; other topics are ignored."""
     rows = collections.defaultdict(list)
     follow = {side: [] for side in BAXTER_SIDES}
     for topic, msg, t in messages:
-        rows[topic].append((t, msg))
-    joint_rows = rows[ROBOT_JOINT_STATES]
-    recording = {
-        field: _samples([(t, _by_name(m.name, getattr(m, field), ARM_JOINTS))
-                         for t, m in joint_rows], len(ARM_JOINTS))
-        for field in ('position', 'velocity', 'effort')}
-    for key in ('command', 'gripper_state', 'gripper_force', 'gripper_go', 'puppet',
-                'end_piece'):
-        recording[key] = {}
-    for side in BAXTER_SIDES:
-        names = arm_joint_names(side)
-        recording['command'][side] = _samples(
-            [(t, _by_name(m.names, m.command, names))
-             for t, m in rows[limb_topic(side, 'joint_command')] if m.mode in POSITION_MODES], 7)
-        states = rows[baxter_gripper_topic(side, 'state')]
-        recording['gripper_state'][side] = _samples([(t, m.position) for t, m in states], 1)
-        recording['gripper_force'][side] = _samples([(t, m.force) for t, m in states], 1)
-        recording['gripper_go'][side] = _samples(
-            [(t, _go_position(m.args)) for t, m in rows[baxter_gripper_topic(side, 'command')]
-             if m.command == CMD_GO and _go_position(m.args) is not None], 1)
-    for side in PUPPET_SIDES:
-        joints = ['joint_%d' % j for j in range(7)]
-        recording['puppet'][side] = _samples(
-            [(t, _by_name(m.name, m.position, joints))
-             for t, m in rows['%s/%s' % (puppet_ns(side), JOINT_STATES)]], 7)
-        recording['end_piece'][side] = _samples(
-            [(t, m.data) for t, m in rows[gripper_topic(side, END_PIECE_GRIPPER)]], 1)
-        for _, m in rows['%s/%s' % (puppet_ns(side), TELEOP_STATE)]:
-            for baxter_side in BAXTER_SIDES:
-                if getattr(m, 'follow_' + baxter_side) and side not in follow[baxter_side]:
-                    follow[baxter_side].append(side)
+        for series, values in message_values(topic, msg):
+            rows[series].append((t, values))
+        followed = follows(topic, msg)
+        for baxter_side in (followed or (None, []))[1]:
+            if followed[0] not in follow[baxter_side]:
+                follow[baxter_side].append(followed[0])
+    recording = {key: _samples(rows[key], SERIES_WIDTH[key])
+                 for key in ('position', 'velocity', 'effort')}
+    for key, sides in (('command', BAXTER_SIDES), ('gripper_state', BAXTER_SIDES),
+                       ('gripper_force', BAXTER_SIDES), ('gripper_go', BAXTER_SIDES),
+                       ('puppet', PUPPET_SIDES), ('end_piece', PUPPET_SIDES)):
+        recording[key] = {side: _samples(rows[(key, side)], SERIES_WIDTH[key])
+                          for side in sides}
     return Recording(follow=follow, **recording)
 
 
@@ -159,29 +188,13 @@ def _fill(values, fallback):
     return np.where(np.isnan(values), fallback, values)
 
 
-def aloha_arrays(recording, rate_hz=DEFAULT_RATE_HZ):
-    """Return the episode resampled at rate_hz on a grid from the first to the last joint state.
-
-    Returns a dict of arrays: time (T,) s from the first joint state; qpos, qvel, effort and
-    action (T, 16) in COLUMNS order; gripper_percent (T, 2) measured (left, right); and
-    commanded (T, 16), the commands alone (NaN before an arm's or gripper's first command).
-    Gripper columns: qpos the opening 0..1 (EndEffectorState position / 100, 0 without any
-    state), qvel its rate of change (1/s), effort force / 100 (0 without state), action the
-    last 'go' position / 100. Action where nothing was commanded yet: the measured qpos.
-    Velocity or effort never reported: 0.
-
-    Raises:
-        ExportError: no /robot/joint_states, or an arm joint it never named.
-    """
-    if not len(recording.position.times):
-        raise ExportError('the episode has no %s: nothing to export' % ROBOT_JOINT_STATES)
-    grid = time_grid(recording.position.times[0], recording.position.times[-1], rate_hz)
-    arm_position = interpolate(recording.position, grid)
-    missing = [ARM_JOINTS[c] for c in range(len(ARM_JOINTS)) if np.isnan(arm_position[0, c])]
-    if missing:
-        raise ExportError('%s never measured %s' % (ROBOT_JOINT_STATES, ', '.join(missing)))
+def resample(recording, grid):
+    """Return the episode's rows at the grid times (s, the messages' clock): qpos, qvel, effort
+    and commanded (n, 16), gripper_percent (n, 2), as aloha_arrays describes them, but for the
+    grippers' qvel (0 here: aloha_arrays and the streamed export take its differences). The
+    recording needs only the samples around the grid's times."""
     qpos, qvel, effort, commanded = (np.zeros((len(grid), len(COLUMNS))) for _ in range(4))
-    qpos[:, ARM_COLUMNS] = arm_position
+    qpos[:, ARM_COLUMNS] = interpolate(recording.position, grid)
     qvel[:, ARM_COLUMNS] = _fill(interpolate(recording.velocity, grid), 0.0)
     effort[:, ARM_COLUMNS] = _fill(interpolate(recording.effort, grid), 0.0)
     percent = np.zeros((len(grid), len(BAXTER_SIDES)))
@@ -189,16 +202,52 @@ def aloha_arrays(recording, rate_hz=DEFAULT_RATE_HZ):
         percent[:, s] = _fill(interpolate(recording.gripper_state[side], grid)[:, 0], 0.0)
         g = GRIPPER_COLUMNS[s]
         qpos[:, g] = percent[:, s] / POSITION_OPEN
-        if len(grid) > 1:
-            qvel[:, g] = np.gradient(qpos[:, g], 1.0 / rate_hz)
         effort[:, g] = _fill(interpolate(recording.gripper_force[side], grid)[:, 0],
                              0.0) / POSITION_OPEN
         arm = [c for c, name in enumerate(COLUMNS) if name in arm_joint_names(side)]
         commanded[:, arm] = hold(recording.command[side], grid)
         commanded[:, g] = hold(recording.gripper_go[side], grid)[:, 0] / POSITION_OPEN
-    return {'time': grid - grid[0], 'qpos': qpos, 'qvel': qvel, 'effort': effort,
-            'action': _fill(commanded, qpos), 'commanded': commanded,
+    return {'qpos': qpos, 'qvel': qvel, 'effort': effort, 'commanded': commanded,
             'gripper_percent': percent}
+
+
+def check_measured(qpos):
+    """Raise ExportError when an arm joint of the first row (n, 16) was never measured."""
+    missing = [COLUMNS[c] for c in ARM_COLUMNS if np.isnan(qpos[0, c])]
+    if missing:
+        raise ExportError('%s never measured %s' % (ROBOT_JOINT_STATES, ', '.join(missing)))
+
+
+def no_joint_states():
+    """Return the ExportError of an episode without Baxter's joint states."""
+    return ExportError('the episode has no %s: nothing to export' % ROBOT_JOINT_STATES)
+
+
+def aloha_arrays(recording, rate_hz=DEFAULT_RATE_HZ):
+    """Return the episode resampled at rate_hz on a grid from the first to the last joint state.
+
+    Returns a dict of arrays: time (T,) s from the first joint state; qpos, qvel, effort and
+    action (T, 16) in COLUMNS order; gripper_percent (T, 2) measured (left, right); and
+    commanded (T, 16), the commands alone (NaN before an arm's or gripper's first command).
+    Gripper columns: qpos the opening 0..1 (EndEffectorState position / 100, 0 without any
+    state), qvel its rate of change (1/s, central differences on the grid), effort force / 100
+    (0 without state), action the last 'go' position / 100. Action where nothing was commanded
+    yet: the measured qpos. Velocity or effort never reported: 0.
+
+    Raises:
+        ExportError: no /robot/joint_states, or an arm joint it never named.
+    """
+    if not len(recording.position.times):
+        raise no_joint_states()
+    grid = time_grid(recording.position.times[0], recording.position.times[-1], rate_hz)
+    arrays = resample(recording, grid)
+    check_measured(arrays['qpos'])
+    if len(grid) > 1:
+        for g in GRIPPER_COLUMNS:
+            arrays['qvel'][:, g] = np.gradient(arrays['qpos'][:, g], 1.0 / rate_hz)
+    arrays['time'] = grid - grid[0]
+    arrays['action'] = _fill(arrays['commanded'], arrays['qpos'])
+    return arrays
 
 
 def csv_lines(arrays):
@@ -212,43 +261,3 @@ def csv_lines(arrays):
             row[g] = float(arrays['gripper_percent'][k, s])
         lines.append('%f,' % t + ','.join(repr(v) for v in row))
     return lines
-
-
-def puppet_driver(recording, baxter_side):
-    """Return the puppet side that drove a Baxter arm: the first whose teleop_state said it
-    followed, else the puppet side with angles on that side, else any with angles (None)."""
-    with_angles = [s for s in PUPPET_SIDES if len(recording.puppet[s].times)]
-    if recording.follow[baxter_side]:
-        return recording.follow[baxter_side][0]
-    same = [s for s in with_angles if BAXTER_SIDE[s] == baxter_side]
-    return (same or with_angles or [None])[0]
-
-
-def plot_series(recording, arrays):
-    """Return {Baxter side: dict} for the plot, of each arm that got position commands (of the
-    recorded puppet sides' arms if none did): puppet (T, 7) the driving puppet's angles as that
-    arm takes them (mirrored on the opposite side; NaN without a puppet), commanded, measured
-    and error = commanded - measured (T, 7) rad, gripper_commanded and gripper_measured
-    (T,) opening 0..1, end_piece (T,) the puppet's end-piece reading (~1 released)."""
-    grid = arrays['time'] + recording.position.times[0]
-    sides = [s for s in BAXTER_SIDES if len(recording.command[s].times)]
-    sides = sides or [BAXTER_SIDE[s] for s in PUPPET_SIDES if len(recording.puppet[s].times)]
-    series = {}
-    for side in sides:
-        columns = [COLUMNS.index(name) for name in arm_joint_names(side)]
-        g = COLUMNS.index('%s_gripper' % side)
-        driver = puppet_driver(recording, side)
-        puppet = np.full((len(grid), 7), np.nan)
-        end_piece = np.full(len(grid), np.nan)
-        if driver is not None:
-            puppet = interpolate(recording.puppet[driver], grid)
-            if BAXTER_SIDE[driver] != side:
-                puppet = np.array([mirror(row) for row in puppet])
-            end_piece = interpolate(recording.end_piece[driver], grid)[:, 0]
-        commanded = arrays['commanded'][:, columns]
-        measured = arrays['qpos'][:, columns]
-        series[side] = {'driver': driver, 'puppet': puppet, 'commanded': commanded,
-                        'measured': measured, 'error': commanded - measured,
-                        'gripper_commanded': arrays['commanded'][:, g],
-                        'gripper_measured': arrays['qpos'][:, g], 'end_piece': end_piece}
-    return series

@@ -11,12 +11,14 @@ or none (--no-images).
 """
 import argparse
 import os
+import signal
 import sys
 import time
 
-from robopuppet.episodes import export, export_files, export_images
+from robopuppet.episodes import export, export_files, export_images, export_run
 
 FORMATS = {'aloha-hdf5': '.hdf5', 'csv': '.csv'}
+OUTPUT_SUFFIXES = ('.hdf5', '.csv', '.png')
 PROGRESS_PERIOD_S = 10.0  # between the progress lines of a long image export
 
 
@@ -28,15 +30,33 @@ def resolve(episode):
     return os.path.join(export_files.default_episodes_dir(), episode)
 
 
-def _write(path, writer, *args):
-    """Write through a temporary file so that a failed export leaves no half file."""
-    partial = path + '.part'
-    try:
-        writer(partial, *args)
-        os.replace(partial, path)
-    finally:
-        if os.path.exists(partial):
-            os.remove(partial)
+def remove_stale_parts(path):
+    """Remove the <path>.<pid>.part files of runs that were killed (their process gone)."""
+    folder, base = os.path.split(os.path.abspath(path))
+    for leftover in os.listdir(folder or '.'):
+        pid = leftover[len(base) + 1:-len('.part')]
+        if leftover.startswith(base + '.') and leftover.endswith('.part') and pid.isdigit():
+            try:
+                os.kill(int(pid), 0)
+            except ProcessLookupError:
+                os.remove(os.path.join(folder, leftover))
+            except PermissionError:
+                pass  # another user's live process
+
+
+class _Output:
+    """A file written through its .part (so a failed or killed export leaves no half file),
+    renamed to its name by done()."""
+
+    def __init__(self, path):
+        self.path, self.partial = path, '%s.%d.part' % (path, os.getpid())
+
+    def done(self):
+        os.replace(self.partial, self.path)
+
+    def discard(self):
+        if os.path.exists(self.partial):
+            os.remove(self.partial)
 
 
 def _cameras(bag_path, name, metadata, cameras, say):
@@ -68,8 +88,9 @@ def _progress(name, say, started):
 
 
 def export_episode(episode, formats, rate_hz, out_dir, plot, say, cameras=None):
-    """Export one episode; return the paths written. say(text) reports progress. cameras: the
-    cameras whose images the HDF5 gets (None: all in the bag, []: none).
+    """Export one episode; return the paths written. say(text) reports progress, and what
+    could not be read and was skipped. cameras: the cameras whose images the HDF5 gets (None:
+    all in the bag, []: none).
 
     Raises:
         export_files.EpisodeError, export.ExportError: the episode cannot be exported.
@@ -81,34 +102,28 @@ def export_episode(episode, formats, rate_hz, out_dir, plot, say, cameras=None):
         say('%s: no %s: taking sim as false' % (name, os.path.basename(yaml_path)))
     out_dir = out_dir or os.path.dirname(os.path.abspath(bag_path))
     say('%s: reading %s (%.1f MB)' % (name, bag_path, os.path.getsize(bag_path) / 1e6))
-    started = time.monotonic()
-    recording = export.collect(export_files.read_messages(bag_path, export.episode_topics()))
-    arrays = export.aloha_arrays(recording, rate_hz)
-    say('%s: %.1f s of episode, %d steps at %g Hz (%.1f s)' % (
-        name, arrays['time'][-1], len(arrays['time']), rate_hz, time.monotonic() - started))
-    written = []
+    for suffix in OUTPUT_SUFFIXES:
+        remove_stale_parts(os.path.join(out_dir, name + suffix))
+    outputs = {kind: _Output(os.path.join(out_dir, name + suffix)) for kind, suffix in
+               (('aloha-hdf5', '.hdf5'), ('csv', '.csv'), ('plot', '.png'))
+               if kind in formats or (kind == 'plot' and plot)}
     if 'aloha-hdf5' in formats:
-        written.append(os.path.join(out_dir, name + FORMATS['aloha-hdf5']))
         cameras = _cameras(bag_path, name, metadata, cameras, say)
-        frames = export_files.read_frames(bag_path, cameras) if cameras != [] else ()
-        notes = []
-        _write(written[-1], lambda path: notes.extend(export_files.write_hdf5(
-            path, arrays, bool(metadata.get('sim')), rate_hz, name, frames,
-            _progress(name, say, time.monotonic()))))
-        for note in notes:
-            say('%s: %s' % (name, note))
-    if 'csv' in formats:
-        written.append(os.path.join(out_dir, name + FORMATS['csv']))
-        _write(written[-1], export_files.write_csv, export.csv_lines(arrays))
-    if plot:
-        written.append(os.path.join(out_dir, name + '.png'))
-        series = export.plot_series(recording, arrays)
-        title = '%s%s: puppet, commanded and measured Baxter angles' % (
-            name, ' (sim)' if metadata.get('sim') else '')
-        _write(written[-1], export_files.write_plot, series, arrays['time'], title)
-    for path in written:
-        say('%s: wrote %s' % (name, path))
-    return written
+    skipped = export_files.Skipped()
+    try:
+        export_run.write(bag_path, name, outputs, rate_hz, bool(metadata.get('sim')), cameras,
+                         skipped, lambda text: say('%s: %s' % (name, text)),
+                         _progress(name, say, time.monotonic()))
+        for output in outputs.values():
+            output.done()
+    finally:
+        for output in outputs.values():
+            output.discard()
+    for line in skipped.lines():
+        say('%s: %s' % (name, line))
+    for output in outputs.values():
+        say('%s: wrote %s' % (name, output.path))
+    return [output.path for output in outputs.values()], skipped
 
 
 def parse_args(argv):
@@ -158,15 +173,26 @@ def main(argv=None):
     args = parse_args(sys.argv[1:] if argv is None else argv)
     if args.out:
         os.makedirs(args.out, exist_ok=True)
-    failed = 0
+    signal.signal(signal.SIGTERM, _terminated)  # so that the .part files are removed
+    failed, damaged = 0, 0
     for episode in args.episodes:
         try:
-            export_episode(episode, args.formats, args.rate, args.out, args.plot,
-                           lambda text: print('export: ' + text, flush=True), args.cameras)
+            _, skipped = export_episode(episode, args.formats, args.rate, args.out, args.plot,
+                                        lambda text: print('export: ' + text, flush=True),
+                                        args.cameras)
+            damaged += bool(skipped.reasons)
         except (export_files.EpisodeError, export.ExportError, OSError) as error:
             failed += 1
             print('export: %s: error: %s' % (episode, error), file=sys.stderr, flush=True)
+    if damaged:
+        print('export: %d of %d episodes exported without what could not be read (see '
+              '"skipped" above)' % (damaged, len(args.episodes)), file=sys.stderr)
     if failed:
         print('export: %d of %d episodes failed' % (failed, len(args.episodes)),
               file=sys.stderr)
     sys.exit(1 if failed else 0)
+
+
+def _terminated(signum, _frame):
+    """Exit on SIGTERM as on Ctrl-C: through the finally clauses that remove .part files."""
+    sys.exit(128 + signum)

@@ -1,28 +1,24 @@
-"""The exporter's files: read an episode (bag and yaml), write ALOHA's HDF5, Rethink's CSV and
-the episode's plot (PNG). The arrays come from robopuppet.episodes.export, the camera images
-from robopuppet.episodes.export_images.
+"""The exporter's episode files: find an episode (bag and yaml), read its metadata and stream
+its bag's messages, skipping and counting what cannot be read.
 
-Reads the bag with rosbag (a file library: no ROS master needed), writes with h5py and
-matplotlib (Agg backend, no display needed). Those two are imported where they write, so that
-the replay command, which only reads bags, starts seconds sooner.
+Reads the bag with rosbag (a file library: no ROS master needed), one chunk at a time: rosbag's
+own read_messages first loads the index entry of every message (about 200 bytes each, 110 MB
+for a 30-minute episode), so messages() merges the chunks' indexes itself, as rosbag merges
+them, with rosbag's (ROS 1's last, frozen) chunk and record readers. The files are written by
+robopuppet.episodes.export_writers.
 """
+import collections
+import heapq
 import os
+import struct
 
-import numpy as np
 import rosbag
 import rospkg
 import yaml
 
 from robopuppet.episodes import export_images, recording
-from robopuppet.episodes.export import COLUMNS
-from robopuppet.interface import ROBOT_JOINT_STATES
 
 ACTIVE_SUFFIX = '.active'
-# The images' HDF5 filter. lzf (h5py's own): 15 s of CPU per minute of three simulated cameras
-# at 50 Hz, 40 s for photographs; gzip (level 4): 37 and 116 s for 22 and 13 % fewer bytes
-# (benchmarks/bench_export.py --compression, docs/demonstrations.md). h5py reads both.
-IMAGE_COMPRESSION = 'lzf'
-JOINT_LABELS = ('s0', 's1', 'e0', 'e1', 'w0', 'w1', 'w2')
 
 
 class EpisodeError(Exception):
@@ -68,151 +64,176 @@ def read_metadata(yaml_path):
     return metadata
 
 
+class Skipped:
+    """What a bag's read skipped and why: {reason: {topic: [count, first time (s)]}}."""
+
+    def __init__(self):
+        self.reasons = collections.OrderedDict()
+
+    def add(self, reason, topic, t_s, count=1):
+        entry = self.reasons.setdefault(reason, collections.OrderedDict()).setdefault(
+            topic, [0, t_s])
+        entry[0] += count
+
+    def lines(self):
+        """Return a line per reason: 'skipped N <reason> (topic n, ...), the first at T s'."""
+        return ['skipped %d %s (%s), the first at %.3f s into the bag' % (
+            sum(n for n, _ in topics.values()), reason,
+            ', '.join('%s %d' % (topic, n) for topic, (n, _) in topics.items()),
+            min(t for _, t in topics.values())) for reason, topics in self.reasons.items()]
+
+
+def open_bag(bag_path):
+    """Return the bag opened without its message index (rosbag.Bag, skip_index: read chunk by
+    chunk by messages()).
+
+    Raises:
+        EpisodeError: not a bag, or its connection and chunk records are unreadable.
+    """
+    try:
+        return rosbag.Bag(bag_path, skip_index=True)
+    except (rosbag.ROSBagException, OSError, struct.error, ValueError) as error:
+        raise EpisodeError('%s: cannot read the bag: %s' % (bag_path, error)) from error
+
+
+def _connections(bag, topics=None, wanted=None):
+    """Return {connection id: rank} of the bag's connections on topics (None: all) that
+    wanted(topic, datatype) accepts, ranked as rosbag ranks them."""
+    return {c.id: rank for rank, c in enumerate(bag._connections.values())  # noqa: SLF001
+            if (topics is None or c.topic in topics)
+            and (wanted is None or wanted(c.topic, c.datatype))}
+
+
+def _chunk_entries(bag, chunk, ids):
+    """Return [(time, connection id, offset)] of a chunk's messages on the connections ids,
+    from its index records (which follow it in the file).
+
+    Raises:
+        ValueError: the index is corrupt (an entry outside the chunk's time range, a count
+            that differs from the chunk's record).
+    """
+    stream = bag._file  # noqa: SLF001  (rosbag reads a chunk's index so; see the docstring)
+    stream.seek(chunk.pos)
+    rosbag.bag._skip_record(stream)  # noqa: SLF001
+    bag._curr_chunk_info = chunk  # noqa: SLF001
+    entries = []
+    for _ in range(len(chunk.connection_counts)):
+        conn, index = bag._reader.read_connection_index_record()  # noqa: SLF001
+        if chunk.connection_counts.get(conn) != len(index):
+            raise ValueError('index of connection %s does not match the chunk' % conn)
+        for entry in index:
+            if not chunk.start_time <= entry.time <= chunk.end_time:
+                raise ValueError('index entry at %s outside the chunk' % entry.time)
+            if conn in ids:
+                entries.append((entry.time, conn, entry.offset))
+    return entries
+
+
+def index_times(bag, topics):
+    """Return (the first message's time, {topic: (first, last) time}) of the bag's messages on
+    topics (genpy.Time), from the chunks' indexes; a chunk whose index is corrupt is left out.
+    """
+    ids = _connections(bag, topics)
+    first, spans = None, {}
+    for chunk in bag._chunks:  # noqa: SLF001
+        if not ids.keys() & chunk.connection_counts.keys():
+            continue
+        try:
+            entries = _chunk_entries(bag, chunk, ids)
+        except Exception:  # pylint: disable=broad-except  (garbage raises anything; skipped)
+            continue
+        for time, conn, _ in entries:
+            topic = bag._connections[conn].topic  # noqa: SLF001
+            low, high = spans.get(topic, (time, time))
+            spans[topic] = (min(low, time), max(high, time))
+            first = time if first is None else min(first, time)
+    return first, spans
+
+
+def messages(bag, topics=None, wanted=None, skipped=None, t0=None):
+    """Yield (topic, msg, time) of the bag's messages on topics (None: all) that
+    wanted(topic, datatype) accepts, in time order as rosbag's read_messages yields them, one
+    chunk's index at a time (rosbag's own reader holds every message's index entry).
+
+    What cannot be read is skipped and counted in skipped (a Skipped; times from t0): a chunk
+    whose index is corrupt, a record that is not a message of its index entry, a message that
+    does not deserialize.
+    """
+    ids = _connections(bag, topics, wanted)
+    chunks = sorted((c for c in bag._chunks  # noqa: SLF001
+                     if ids.keys() & c.connection_counts.keys()),
+                    key=lambda c: (c.start_time, c.pos))
+    pending, loaded = [], 0
+    skipped = skipped if skipped is not None else Skipped()
+    t0 = t0 if t0 is not None else (chunks[0].start_time if chunks else None)
+    while loaded < len(chunks) or pending:
+        while loaded < len(chunks) and (
+                not pending or chunks[loaded].start_time.to_nsec() <= pending[0][0]):
+            chunk = chunks[loaded]
+            try:
+                for i, (time, conn, offset) in enumerate(_chunk_entries(bag, chunk, ids)):
+                    heapq.heappush(pending, (time.to_nsec(), ids[conn], loaded, i, time,
+                                             conn, chunk.pos, offset))
+            except Exception:  # pylint: disable=broad-except  (garbage raises anything)
+                for conn, count in chunk.connection_counts.items():
+                    if conn in ids:
+                        skipped.add('messages of chunks whose index is corrupt',
+                                    bag._connections[conn].topic,  # noqa: SLF001
+                                    (chunk.start_time - t0).to_sec(), count)
+            loaded += 1
+        if not pending:
+            continue
+        _, _, _, _, time, conn, chunk_pos, offset = heapq.heappop(pending)
+        topic = bag._connections[conn].topic  # noqa: SLF001
+        try:
+            read = bag._reader.seek_and_read_message_data_record(  # noqa: SLF001
+                (chunk_pos, offset), True)
+        except Exception:  # pylint: disable=broad-except  (garbage raises anything)
+            read = None
+        if read is None or read.topic != topic or read.timestamp != time:
+            skipped.add('unreadable message records', topic, (time - t0).to_sec())
+            continue
+        try:
+            msg = read.message[4]()
+            msg.deserialize(read.message[1])
+        except Exception:  # pylint: disable=broad-except  (garbage raises anything)
+            skipped.add('messages that do not deserialize', topic, (time - t0).to_sec())
+            continue
+        yield topic, msg, time
+
+
 def read_messages(bag_path, topics):
     """Return [(topic, msg, t)] of the bag's messages on topics in time order, t its record
     time in s since the first of them (subtracted in integer ns: a float of ROS time since 1970
-    keeps only ~0.2 us)."""
-    try:
-        with rosbag.Bag(bag_path) as bag:
-            messages = list(bag.read_messages(topics=topics))
-    except (rosbag.ROSBagException, OSError) as error:
-        raise EpisodeError('%s: cannot read the bag: %s' % (bag_path, error)) from error
-    return [(topic, msg, (t - messages[0][2]).to_sec()) for topic, msg, t in messages]
+    keeps only ~0.2 us). Unreadable messages are left out."""
+    bag = open_bag(bag_path)
+    with bag:
+        t0, _ = index_times(bag, topics)
+        return [(topic, msg, (t - t0).to_sec()) for topic, msg, t in messages(bag, topics)]
 
 
 def frame_counts(bag_path, cameras):
-    """Return {camera: the number of its frames in the bag} (from the bag's index)."""
-    try:
-        with rosbag.Bag(bag_path) as bag:
-            return {camera: bag.get_message_count(export_images.frame_topic(camera))
-                    for camera in cameras}
-    except (rosbag.ROSBagException, OSError) as error:
-        raise EpisodeError('%s: cannot read the bag: %s' % (bag_path, error)) from error
+    """Return {camera: the number of its frames in the bag} (from the bag's chunk records)."""
+    bag = open_bag(bag_path)
+    with bag:
+        counts = {}
+        for camera in cameras:
+            ids = _connections(bag, [export_images.frame_topic(camera)])
+            counts[camera] = sum(c.connection_counts.get(i, 0)
+                                 for c in bag._chunks for i in ids)  # noqa: SLF001
+        return counts
 
 
-def read_frames(bag_path, cameras=None):
+def read_frames(bag_path, start, cameras=None, skipped=None):
     """Yield (camera, t, JPEG bytes) of the bag's camera frames (export_images.frame_topic) in
-    time order, one at a time, t the record time in s since the first /robot/joint_states
-    (the export grid's time 0). cameras: the cameras to read, None for all in the bag."""
-    def wanted(topic, datatype, *_):
+    time order, one at a time, t the record time in s since start (genpy.Time: the first
+    /robot/joint_states, the export grid's time 0). cameras: the cameras to read, None for all
+    in the bag; skipped: a Skipped that counts what cannot be read."""
+    def wanted(topic, datatype):
         camera = export_images.camera_of(topic)
         return (datatype == 'sensor_msgs/CompressedImage' and camera is not None
                 and (cameras is None or camera in cameras))
-    try:
-        with rosbag.Bag(bag_path) as bag:
-            start = next(bag.read_messages(topics=[ROBOT_JOINT_STATES]), (None, None, None))[2]
-            if start is None:
-                return
-            for topic, msg, t in bag.read_messages(connection_filter=wanted):
-                yield export_images.camera_of(topic), (t - start).to_sec(), msg.data
-    except (rosbag.ROSBagException, OSError) as error:
-        raise EpisodeError('%s: cannot read the bag: %s' % (bag_path, error)) from error
-
-
-def write_hdf5(path, arrays, sim, rate_hz, name, frames=(), progress=None,
-               compression=IMAGE_COMPRESSION):
-    """Write ALOHA's layout: attrs sim, /observations/qpos, qvel, effort and /action (T, 16)
-    float32 in COLUMNS order; also attrs columns (the column names), rate_hz and episode.
-
-    The group /observations/images holds, per camera of frames ((camera, t, JPEG bytes) in
-    time order, as read_frames yields them), a dataset <camera> (T, H, W, 3) uint8 RGB with
-    chunks of one image, like ALOHA's, compressed by the filter compression (h5py undoes it
-    when reading). Each frame is decoded and compressed once; the steps that repeat it get a
-    copy of its stored chunk. progress(fraction 0..1) is called after each run of steps.
-
-    Returns:
-        lines worth reporting about the images (export_images.ImageResampler.report).
-    Raises:
-        export.ExportError: a camera has no frame that decodes.
-    """
-    import h5py  # pylint: disable=import-outside-toplevel  (see the module docstring)
-    resampler = export_images.ImageResampler(arrays['time'])
-    steps = len(arrays['time'])
-    with h5py.File(path, 'w') as root:
-        root.attrs['sim'] = bool(sim)
-        root.attrs['columns'] = np.array(COLUMNS, dtype=h5py.string_dtype())
-        root.attrs['rate_hz'] = float(rate_hz)
-        root.attrs['episode'] = name
-        observations = root.create_group('observations')
-        for dataset in ('qpos', 'qvel', 'effort'):
-            observations.create_dataset(dataset, data=arrays[dataset].astype(np.float32))
-        root.create_dataset('action', data=arrays['action'].astype(np.float32))
-        images, datasets = observations.create_group('images'), {}
-        for run in _runs(resampler, frames):
-            if run.camera not in datasets:
-                datasets[run.camera] = images.create_dataset(
-                    run.camera, (steps,) + run.image.shape, dtype=np.uint8,
-                    chunks=(1,) + run.image.shape, compression=compression)
-            _write_run(datasets[run.camera], run)
-            if progress:
-                progress(run.stop / steps)
-    return resampler.report()
-
-
-def _runs(resampler, frames):
-    """Yield the resampler's runs of the frames, then its last ones."""
-    for camera, t_s, data in frames:
-        yield from resampler.add(camera, t_s, data)
-    yield from resampler.finish()
-
-
-def _write_run(dataset, run):
-    """Write a run's image to its steps run.start..run.stop-1 of the camera's dataset:
-    compressed once, then its stored chunk copied."""
-    dataset[run.start] = run.image
-    if run.stop - run.start > 1:
-        mask, chunk = dataset.id.read_direct_chunk((run.start, 0, 0, 0))
-        for step in range(run.start + 1, run.stop):
-            dataset.id.write_direct_chunk((step, 0, 0, 0), chunk, mask)
-
-
-def write_csv(path, lines):
-    """Write the CSV lines, each ended by a newline."""
-    with open(path, 'w') as stream:
-        stream.write(''.join(line + '\n' for line in lines))
-
-
-def write_plot(path, series, time_s, title):
-    """Write a PNG: per plotted arm two columns of 8 panels. Left: per joint the puppet's angle
-    as that arm takes it, the commanded and the measured angle (deg), then the gripper's
-    commanded and measured opening with the puppet's end-piece reading (0..1). Right: the
-    tracking error commanded - measured of each (deg; opening for the gripper)."""
-    import matplotlib  # pylint: disable=import-outside-toplevel  (see the module docstring)
-    matplotlib.use('Agg')
-    import matplotlib.pyplot as plt  # pylint: disable=import-outside-toplevel
-    figure, axes = plt.subplots(8, 2 * max(len(series), 1), sharex=True, squeeze=False,
-                                figsize=(11 * max(len(series), 1), 17),
-                                gridspec_kw={'width_ratios': [3, 2] * max(len(series), 1)})
-    figure.suptitle(title)
-    for c, (side, data) in enumerate(sorted(series.items())):
-        value_axes, error_axes = axes[:, 2 * c], axes[:, 2 * c + 1]
-        for j, label in enumerate(JOINT_LABELS):
-            value_axes[j].plot(time_s, np.degrees(data['puppet'][:, j]), color='0.6', lw=3,
-                               label='puppet %s, mapped' % data['driver'])
-            value_axes[j].plot(time_s, np.degrees(data['commanded'][:, j]), 'C0', lw=1,
-                               label='commanded')
-            value_axes[j].plot(time_s, np.degrees(data['measured'][:, j]), 'C1--', lw=1,
-                               label='measured')
-            value_axes[j].set_ylabel('%s_%s (deg)' % (side, label))
-            error_axes[j].plot(time_s, np.degrees(data['error'][:, j]), 'C3', lw=0.8)
-            error_axes[j].axhline(0.0, color='0.7', lw=0.5)
-            error_axes[j].set_ylabel('%s_%s error (deg)' % (side, label))
-        value_axes[0].legend(fontsize=7, loc='upper right', ncol=3)
-        error_axes[0].set_title('tracking error: commanded - measured', fontsize=9)
-        value_axes[7].plot(time_s, data['end_piece'], color='0.6', lw=3,
-                           label='puppet end piece (1 released)')
-        value_axes[7].plot(time_s, data['gripper_commanded'], 'C0', lw=1,
-                           label='commanded opening')
-        value_axes[7].plot(time_s, data['gripper_measured'], 'C1--', lw=1,
-                           label='measured opening')
-        value_axes[7].set_ylim(-0.05, 1.2)
-        value_axes[7].set_ylabel('%s gripper (0..1)' % side)
-        value_axes[7].legend(fontsize=7, loc='upper right', ncol=3)
-        error_axes[7].plot(time_s, data['gripper_commanded'] - data['gripper_measured'], 'C3',
-                           lw=0.8)
-        error_axes[7].set_ylabel('%s gripper error' % side)
-        for axis in (value_axes[7], error_axes[7]):
-            axis.set_xlabel('time (s)')
-    figure.tight_layout(rect=(0, 0, 1, 0.98))
-    figure.savefig(path, format='png', dpi=80)
-    plt.close(figure)
+    bag = open_bag(bag_path)
+    with bag:
+        for topic, msg, t in messages(bag, wanted=wanted, skipped=skipped, t0=start):
+            yield export_images.camera_of(topic), (t - start).to_sec(), msg.data

@@ -43,7 +43,10 @@ def camera_of(topic):
 
 def decode(data):
     """Return a JPEG (or PNG) as an RGB uint8 image (H, W, 3), None when it does not decode."""
-    bgr = cv2.imdecode(np.frombuffer(bytes(data), np.uint8), cv2.IMREAD_COLOR)
+    try:
+        bgr = cv2.imdecode(np.frombuffer(bytes(data), np.uint8), cv2.IMREAD_COLOR)
+    except cv2.error:  # e.g. an empty frame: "!buf.empty() in function 'imdecode_'"
+        return None
     return None if bgr is None else cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB)
 
 

@@ -18,6 +18,7 @@ RECORDING_TOPIC = '/puppet/recording'     # robopuppet_msgs/RecordingState, latc
 DEFAULT_MIN_FREE_MB = 200.0       # below this free space an episode neither starts nor goes on
 NAME_PREFIX = 'episode_'
 BAG, ACTIVE, META = '.bag', '.bag.active', '.yaml'
+LOCK_FILE = '.recorder.lock'      # in the episodes folder: one recorder per folder (flock)
 CAMERA_IMAGE = 'image/compressed'  # what an episode holds of each recorded camera (JPEG)
 CAMERA_NAME = re.compile(r'[A-Za-z][A-Za-z0-9_]*\Z')  # a ROS name segment, e.g. room_camera
 # A side's own topics (relative to interface.puppet_ns(side)).

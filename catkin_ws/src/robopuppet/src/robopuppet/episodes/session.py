@@ -57,7 +57,7 @@ class Recorder:
         except OSError as error:
             problem = 'cannot use %s: %s' % (self.directory, error)
         if problem:
-            return self._refuse(problem)
+            return self.refuse(problem)
         name = recording.episode_name(time.localtime(wall_s),
                                       lambda n: recording.files_taken(self.directory, n))
         meta = recording.metadata(name, wall_s, stamp_s, 0.0, self.sides, self.cameras,
@@ -65,12 +65,12 @@ class Recorder:
         try:
             writer = self._files.BagWriter(self.directory, name)
         except OSError as error:
-            return self._refuse('cannot write %s: %s' % (self.directory, error))
+            return self.refuse('cannot write %s: %s' % (self.directory, error))
         try:
             self._files.write_metadata(self._meta_path(name), meta)
         except OSError as error:
             writer.abandon()
-            return self._refuse('cannot write the metadata of %s: %s' % (name, error))
+            return self.refuse('cannot write the metadata of %s: %s' % (name, error))
         self._writer, self._meta = writer, meta
         self._episode = recording.Episode(name, stamp_s, notes)
         return True, '', writer.path
@@ -136,7 +136,12 @@ class Recorder:
     def _fail(self, problem, stamp_s):
         self.stop('', stamp_s, problem)
 
-    def _refuse(self, problem):
+    def refuse(self, problem):
+        """Refuse an episode for problem (also one the node found: the folder is not locked).
+
+        Returns:
+            (False, problem, ''); the status's problem says it.
+        """
         self._last = self._last._replace(recording=False, problem=problem)
         return False, problem, ''
 

@@ -3,11 +3,12 @@
 Steps (robopuppet.calibration.procedure): Start checks that every quadrature joint is Working
 and says which to turn; then, for each pose, the figure shows it and Capture (or a press of the
 end-piece button while this tab is shown) captures it; then the table shows old and new values
-and each joint's residual; Apply stores them (one set_config per joint, off the GUI thread);
-Undo stores the old values of the joints Apply wrote; Check asks for each joint to be moved in
-Baxter's positive direction and names the joints that move the wrong way; Motors checks each
-joint's sign_motor in hold at a safe voltage (calibration.motor_check), Stop ends it, and Flip
-corrects the joints whose motor pushes the wrong way.
+and each joint's residual; Apply stores them (one all-or-none set_arm_config request for every
+joint, off the GUI thread); Undo stores the old values of the joints Apply wrote the same way;
+Check asks for each joint to be moved in Baxter's positive direction and names the joints that
+move the wrong way; Motors checks each joint's sign_motor in hold at a safe voltage
+(calibration.motor_check), Stop ends it, and Flip corrects the joints whose motor pushes the
+wrong way.
 
 While a pose is awaited, a timer (procedure.TARGET_RATE_HZ, whichever tab is shown) publishes it
 as the calibration target for RViz; the same timer runs the motor check. If the window closes
@@ -26,14 +27,14 @@ from robopuppet.gui.config_task import ConfigTask
 from robopuppet.gui.main_tab import GREEN, RED, number, paint
 from robopuppet.gui.pose_figure import PoseFigure
 
-APPLY_TIMEOUT_S = 20.0  # seven set_config calls, each waiting up to 1 s for the service
+APPLY_TIMEOUT_S = 10.0  # one set_arm_config call: up to 1 s for the service, then the write
 COLUMNS = ('target', 'reported', 'home old', 'home new', 'sign old', 'sign new', 'residual',
            'problem')
 
 
 class CalibrationTab(QtWidgets.QWidget):
     """The wizard for one arm. `client`: a PuppetClient (or a double with .state, .now(),
-    .stored_settings(), .set_config(joint, values), .publish_target(pose), .set_opmode(opmode)
+    .stored_settings(), .set_arm_config(values), .publish_target(pose), .set_opmode(opmode)
     and .set_setpoint(joint, angle_rad))."""
 
     def __init__(self, client, parent=None):
@@ -111,7 +112,7 @@ class CalibrationTab(QtWidgets.QWidget):
             self._advance()
 
     def apply(self):
-        """Store the new values, one set_config per joint, off the GUI thread."""
+        """Store the new values, all joints in one request, off the GUI thread."""
         if self.step != 'review' or self._task.busy():
             return
         if self._following:
@@ -120,7 +121,7 @@ class CalibrationTab(QtWidgets.QWidget):
         old = {c.joint: c.old for c in self.changes}
         new = {c.joint: c.new for c in self.changes}
         self._say('storing the new values…')
-        self._task.start(lambda: procedure.apply_changes(self.client.set_config, new),
+        self._task.start(lambda: procedure.apply_changes(self.client.set_arm_config, new),
                          lambda applied, error: self._applied(applied, error, 'new', old),
                          APPLY_TIMEOUT_S)
         self._enable()
@@ -131,7 +132,7 @@ class CalibrationTab(QtWidgets.QWidget):
             return
         old = dict(self.undo_values)
         self._say('restoring the old values…')
-        self._task.start(lambda: procedure.apply_changes(self.client.set_config, old),
+        self._task.start(lambda: procedure.apply_changes(self.client.set_arm_config, old),
                          lambda applied, error: self._applied(applied, error, 'old', None),
                          APPLY_TIMEOUT_S)
         self._enable()
@@ -166,7 +167,7 @@ class CalibrationTab(QtWidgets.QWidget):
         wrong = self.motors.wrong()
         old = {j: {'sign_motor': self.motors.signs[j]} for j in wrong}
         self._say('flipping sign_motor of joints %s…' % wrong)
-        self._task.start(lambda: procedure.apply_changes(self.client.set_config,
+        self._task.start(lambda: procedure.apply_changes(self.client.set_arm_config,
                                                          self.motors.flips(wrong)),
                          lambda applied, error: self._applied(applied, error, 'flipped', old),
                          APPLY_TIMEOUT_S)
@@ -190,7 +191,7 @@ class CalibrationTab(QtWidgets.QWidget):
             self.client.set_setpoint(command.joint, command.values)
         elif command.kind == 'store':
             self._task.start(
-                lambda: procedure.apply_changes(self.client.set_config, command.values),
+                lambda: procedure.apply_changes(self.client.set_arm_config, command.values),
                 self._motors_stored, APPLY_TIMEOUT_S)
         self._show_motors()
 
@@ -228,7 +229,8 @@ class CalibrationTab(QtWidgets.QWidget):
         if self.motors is None or self.motors.phase == 'done':
             return
         self.client.set_opmode(interface.LIMP)
-        applied = procedure.apply_changes(self.client.set_config, self.motors.restore_values())
+        applied = procedure.apply_changes(self.client.set_arm_config,
+                                          self.motors.restore_values())
         if applied.error:
             sys.stderr.write('calibration: restoring the voltage limits failed (%s); set them '
                              'again: %s\n' % (applied.error, self.motors.restore_values()))
@@ -238,16 +240,14 @@ class CalibrationTab(QtWidgets.QWidget):
         written = applied.written if applied else []
         if old is None:  # what Undo could not restore stays to undo
             self.undo_values = {j: v for j, v in self.undo_values.items() if j not in written}
-        else:
+        elif written:  # a refused store wrote nothing: the last Apply's undo stays
             self.undo_values = {j: old[j] for j in written}
-            if written and self.step == 'review':
+            if self.step == 'review':
                 self.step = 'idle'
         problem = error or (applied.error if applied else '')
         if problem:
-            self._say('FAILED: %s. Stored the %s values of joints %s; the others keep what '
-                      'they had.%s' % (problem, which, written or 'none',
-                                       ' Undo restores the written ones.' if written else ''),
-                      error=True)
+            self._say('FAILED: %s. The %s values were not stored: every joint keeps what it '
+                      'had.' % (problem, which), error=True)
         else:
             self.instruction.setText('Stored. Check tests each joint\'s direction; Undo restores '
                                      'the old values.' if self.undo_values else 'Restored.')

@@ -9,6 +9,7 @@ from robopuppet.gui.camera_client import CameraClient
 from robopuppet.gui.puppet_client import PuppetClient, SimPuppetClient
 from robopuppet.gui.state import ArmState
 from robopuppet.gui.window import Window
+from robopuppet.link_recovery import LinkRecovery
 from robopuppet.periodic import Guard
 
 DEFAULT_FRAME_RATE_HZ = 30.0
@@ -61,6 +62,9 @@ def main():
     except (KeyError, ValueError) as error:
         rospy.logfatal('gui cannot start: %s', error)
         raise SystemExit(1)
+    # After a cut: connect anew to the robot host's publishers once these are stuck.
+    LinkRecovery(rospy.get_name(), ['%s/%s' % (interface.puppet_ns(side), interface.LINK_STATE),
+                                    interface.ROBOT_JOINT_STATES]).start()
     app = QtWidgets.QApplication(sys.argv[:1])
     window = Window(PuppetClient(side, ArmState()), debug_mode,
                     SimPuppetClient(side) if sim_puppet else None, CameraClient())

@@ -18,8 +18,8 @@ from robopuppet import interface, settings
 from robopuppet.calibration import procedure
 from robopuppet.episodes import recording
 from robopuppet.gui import state
-from robopuppet_msgs.msg import ArmSettings, LinkState, RecordingState, TeleopState
-from robopuppet_msgs.srv import GetConfig, Record, SetConfig
+from robopuppet_msgs.msg import ArmSettings, JointChange, LinkState, RecordingState, TeleopState
+from robopuppet_msgs.srv import GetConfig, Record, SetArmConfig, SetConfig
 
 # Incoming messages each subscriber keeps when its callback falls behind (older ones are
 # dropped); /diagnostics carries every node's statuses, so it keeps more.
@@ -32,11 +32,13 @@ ROBOT_QUEUE_SIZE = 1
 
 SetAnswer = collections.namedtuple('SetAnswer', 'stored error values')
 SetAnswer.__doc__ = """The config node's answer to set_config: stored (bool), error (why not, or
-'') and values, the joint's {name: value} stored now."""
+'') and values, the joint's {name: value} stored now (set_arm_config's: {joint: {name: value}}
+of all seven joints)."""
 
 
 class ConfigUnavailable(RuntimeError):
-    """get_config or set_config did not answer (config node not running, or the call failed)."""
+    """get_config, set_config or set_arm_config did not answer (config node not running, or the
+    call failed)."""
 
 
 RecordAnswer = collections.namedtuple('RecordAnswer', 'ok error episode')
@@ -63,7 +65,7 @@ class PuppetClient:
     Publishes: <ns>/opmode (std_msgs/String), <ns>/joint_J/setpoint (std_msgs/Float32),
         <ns>/calibration_target (sensor_msgs/JointState, procedure.TARGET_TOPIC).
     Calls: <ns>/get_config (robopuppet_msgs/GetConfig), <ns>/set_config
-        (robopuppet_msgs/SetConfig).
+        (robopuppet_msgs/SetConfig), <ns>/set_arm_config (robopuppet_msgs/SetArmConfig).
     Recording: subscribes /puppet/recording (robopuppet_msgs/RecordingState, kept for
         recording_status()) and calls /puppet/record (robopuppet_msgs/Record).
     Replay: publishes interface.REPLAY_STOP (std_msgs/Empty) on stop_replay().
@@ -118,6 +120,7 @@ class PuppetClient:
                                            queue_size=1)
         self._get_config = rospy.ServiceProxy(topic(interface.GET_CONFIG), GetConfig)
         self._set_config = rospy.ServiceProxy(topic(interface.SET_CONFIG), SetConfig)
+        self._set_arm_config = rospy.ServiceProxy(topic(interface.SET_ARM_CONFIG), SetArmConfig)
         self._record = rospy.ServiceProxy(recording.RECORD_SERVICE, Record)
         self._replay_stop_pub = rospy.Publisher(interface.REPLAY_STOP, Empty, queue_size=1)
         self._recording = None
@@ -177,6 +180,20 @@ class PuppetClient:
                               [values[name] for name in names])
         return SetAnswer(response.stored, response.error,
                          {name: getattr(response.settings, name) for name in settings.NAMES})
+
+    def set_arm_config(self, values, timeout_s=1.0):
+        """Ask the config node to store {joint: {name: value}} in one request, all or none (a
+        calibration); return a SetAnswer. Blocks like get_config: call it off the GUI thread.
+
+        Raises:
+            ConfigUnavailable: the service is not there within timeout_s or the call failed.
+        """
+        response = self._call(self._set_arm_config, interface.SET_ARM_CONFIG, timeout_s,
+                              [JointChange(joint, list(v), list(v.values()))
+                               for joint, v in values.items()])
+        return SetAnswer(response.stored, response.error, {
+            j.joint: {name: getattr(j, name) for name in settings.NAMES}
+            for j in response.settings.joints})
 
     def stored_settings(self):
         """Return config_X's latest stored_settings as {joint: {name: value}}, or None."""

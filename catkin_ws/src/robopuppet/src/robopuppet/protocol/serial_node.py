@@ -9,6 +9,7 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Empty, Float32, String, UInt8
 
 from robopuppet import interface, params, settings
+from robopuppet.link_recovery import LinkRecovery
 from robopuppet.periodic import Guard
 from robopuppet.protocol import device_commands, state_output as out
 from robopuppet.protocol.serial_core import LinkFacts, SerialCore
@@ -40,6 +41,7 @@ class SerialNode:
     Echoes: each link_ping (robopuppet_msgs/LinkPing from arm_X on the robot host) goes back at
         once on link_echo with `echoed` = this node's rospy.Time.now(), both tcp_nodelay. This is
         the node that stamps joint_states, so arm_X measures the clock that stamps the samples.
+        After a cut, link_recovery connects anew to arm_X's publishers once link_ping is stuck.
     Parameters: ~arm_side (str, required: L or R); ~port_name (str, default /dev/ttyACM0);
         ~baud_rate (int, default 115200); ~joint_topic_rate (float, default 100.0 Hz: cap of
         the per-joint topics); ~silence_timeout (float, default 3.0 s: no frame for this long
@@ -87,6 +89,8 @@ class SerialNode:
             self._ns + '/' + interface.LINK_PING, LinkPing, lambda msg: echo.publish(LinkPing(
                 seq=msg.seq, sent=msg.sent, echoed=rospy.Time.now())), queue_size=10,
             tcp_nodelay=True))
+        # After a cut: connect anew to arm_X's publishers once the pings are stuck.
+        self._recovery = LinkRecovery(self._name, [self._ns + '/' + interface.LINK_PING])
 
     def _make_publishers(self):
         def pubs(kind, *topics):
@@ -125,6 +129,7 @@ class SerialNode:
         rospy.on_shutdown(self._stop)
         self._link.start()
         self._worker.start()
+        self._recovery.start()
         rospy.spin()
 
     def _stop(self):

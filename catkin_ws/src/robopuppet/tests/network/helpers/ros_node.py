@@ -3,12 +3,13 @@
 init only once per process); it reports on stdout, one JSON object per line.
 
     ros_node.py talk TOPIC [RATE_HZ]    publish std_msgs/String '0', '1', '2', ... at RATE_HZ
-    ros_node.py listen TOPIC TYPE [nodelay]
+    ros_node.py listen TOPIC TYPE [nodelay] [recover]
                                         subscribe (TYPE e.g. std_msgs/String,
                                         baxter_core_msgs/JointCommand); print each message;
                                         nodelay: ask for TCP_NODELAY, as arm_X does for the
                                         puppet's joint_states (a lost packet then delays the
-                                        samples as it does arm_X's)
+                                        samples as it does arm_X's); recover: watch TOPIC
+                                        with robopuppet.link_recovery, as gui_X does
 
 First line: {"ready": true, "node": NAME, "uri": its XML-RPC URI}. Then, for `listen`, one line
 per message: {"t": receipt time (s, time.time()), "msg": {field: value, ...}}. Environment:
@@ -21,6 +22,8 @@ import time
 import roslib.message
 import rospy
 from std_msgs.msg import String
+
+from robopuppet.link_recovery import LinkRecovery
 
 
 def to_plain(msg):
@@ -71,7 +74,9 @@ def main(argv):
             return 2
         rospy.Subscriber(topic, msg_class,
                          lambda msg: report(t=time.time(), msg=to_plain(msg)), queue_size=1000,
-                         tcp_nodelay=argv[3:4] == ['nodelay'])
+                         tcp_nodelay='nodelay' in argv[3:])
+        if 'recover' in argv[3:]:
+            LinkRecovery(rospy.get_name(), [topic]).start()
         report(ready=True, node=rospy.get_name(), uri=rospy.get_node_uri())
         rospy.spin()
     return 0
