@@ -23,8 +23,9 @@ then
   echo "[run] Stop it first, or start this one on another master: ROS_MASTER_URI=http://localhost:11312 ./run.sh" >&2
   exit 1
 fi
-# The simulated puppets' pseudo-terminal links go where only this user writes.
-args=(sim_link_prefix:="${XDG_RUNTIME_DIR:-/tmp}/robopuppet-$(id -un)" "$@")
+# The simulated puppets' pseudo-terminal links go to $ROS_HOME/robopuppet/, named after the
+# ROS master (arm.launch's sim_link_prefix), so a second system on another master has its own.
+args=("$@")
 if [ -z "${DISPLAY:-}" ]; then
   echo "[run] no display (\$DISPLAY is empty): running headless, without RViz and the GUI."
   echo "[run] inspect it from another shell: . tools/env.sh; rostopic list"

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Set up (install Debian packages, build) and run every RoboPuppet test.
 #   ./test.sh                     all tests
-#   ./test.sh unit                pytest unit tests only
+#   ./test.sh unit                pytest unit tests only, without those marked slow (the quick loop)
 #   ./test.sh network [NAME]      two-host network tests only (as root; NAME: a pytest -k filter)
 #   ./test.sh integration [NAME]  rostest files only (NAME: substring of a .test file name)
 set -euo pipefail

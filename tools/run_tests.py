@@ -9,7 +9,8 @@ depends on this machine's host name resolving; the network tests set each host's
 
 Usage: run_tests.py [unit|network|integration|all] [NAME ...]
 NAME filters the integration .test files (substring match), or with scope network the network
-tests (pytest -k NAME). Prints one closing line 'N passed, N failed' and exits non-zero when
+tests (pytest -k NAME). Scope unit leaves out the unit tests marked slow (heavy property tests):
+the quick loop; all runs them. Prints one closing line 'N passed, N failed' and exits non-zero when
 anything failed.
 """
 import glob
@@ -44,12 +45,13 @@ def junit_counts(path):
     return total - failed - skipped, failed
 
 
-def run_unit(work_dir):
-    """Run the pytest unit tests; return (passed, failed)."""
+def run_unit(work_dir, quick=False):
+    """Run the pytest unit tests (quick: not those marked slow); return (passed, failed)."""
     xml = os.path.join(work_dir, 'unit.xml')
-    print('[test] unit tests (pytest)', flush=True)
+    print('[test] unit tests (pytest%s)' % (
+        ', without the slow property tests: ./test.sh runs them' if quick else ''), flush=True)
     cmd = [sys.executable, '-m', 'pytest', UNIT_DIR, '-q', '-p', 'no:cacheprovider',
-           '--junitxml', xml]
+           '--junitxml', xml] + (['-m', 'not slow'] if quick else [])
     code = subprocess.call(cmd, cwd=ROOT)
     passed, failed = junit_counts(xml)
     if code != 0 and failed == 0:
@@ -130,7 +132,7 @@ def main():
     os.environ.pop('ROS_HOSTNAME', None)
     passed = failed = 0
     if scope in ('unit', 'all') and not args:
-        p, f = run_unit(work_dir)
+        p, f = run_unit(work_dir, quick=scope == 'unit')
         passed, failed = passed + p, failed + f
     if scope == 'network' or (scope == 'all' and not args):
         p, f = run_network(args, work_dir)

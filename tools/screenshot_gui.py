@@ -1,20 +1,19 @@
 #!/usr/bin/python3
 """Drive the real GUI against the running simulated system and save three screenshots.
 
-Usage: tools/screenshot_gui.py OUT_DIR   (started by tools/screenshot_gui.sh, which also starts
-the simulated system). Builds the same window as gui_R (PuppetClient, CameraClient for the
-Cameras tab, virtual puppet panel), then, like an operator: sweeps the quadrature joints through
+Usage: tools/screenshot_gui.py OUT_DIR (started by tools/screenshot_gui.sh, which also starts the
+simulated system). Builds the same window as gui_R (PuppetClient, CameraClient for the main tab's
+camera pane, virtual puppet panel), then, like an operator: sweeps the quadrature joints through
 their index marks with the panel's sliders until all seven encoders work, makes joint 1 a P
-controller (pid_kp 4 V/rad, no I or D) with the joint tab's Set, presses button 3 (Baxter's
-right arm follows) and button 1 (hold), and waves joint 1 with its slider. Saves
-OUT_DIR/gui_main.png (main tab) and OUT_DIR/gui_joint1.png (joint 1 tab). Then presses button 1
-again (limp), moves the sliders over REACH_S to REACH_POSE_RAD, so that Baxter's right arm
-reaches out over the bed with its hand camera above the patient, waits until
-/robot/joint_states shows the arm there (pressing button 3 again whenever following stopped,
-as a busy machine's puppet timeouts can make it), opens the Cameras tab on right_hand_camera
-and saves OUT_DIR/gui_camera_reach.jpg once the pane judges the stream live and shows at least
-CAMERA_RATE_HZ frames/s. Exits with status 1, saving nothing more, when a step does not happen
-within a minute or Set is not confirmed.
+controller (pid_kp 4 V/rad, no I or D) with the joint tab's Set, presses button 3 (Baxter's right
+arm follows) and button 1 (hold), and waves joint 1 with its slider. Saves OUT_DIR/gui_main.png
+(main tab) and OUT_DIR/gui_joint1.png (joint 1 tab). Then presses button 1 again (limp), moves the
+sliders over REACH_S to REACH_POSE_RAD, so that Baxter's right arm reaches out over the bed with its
+hand camera above the patient, waits until /robot/joint_states shows the arm there (pressing button
+3 again whenever following stopped, as a busy machine's puppet timeouts can make it), shows the main
+tab's camera on right_hand_camera and saves OUT_DIR/gui_camera_reach.jpg once the pane judges the
+stream live and shows at least CAMERA_RATE_HZ frames/s. Exits with status 1, saving nothing more,
+when a step does not happen within a minute or Set is not confirmed.
 """
 import math
 import os
@@ -123,7 +122,7 @@ def scenario(window, out_dir, hand, baxter):
             yield from press(panel, 3)  # following stopped (a fault on a busy machine): again
         yield 0.5
     pane = window.camera_pane
-    window.tabs.setCurrentWidget(pane)
+    window.tabs.setCurrentWidget(window.main_tab)   # the camera pane sits beside the status
     pane.choose(CAMERA)
     yield 3.0  # a full window of frames/s (camera_view.RATE_WINDOW_S) once it streams
     yield lambda: (pane.view.has_image() and pane.verdict().level == camera_view.OK

@@ -7,12 +7,14 @@ at 10 Hz, diagnostics at 1 Hz, three cameras' 640x480 JPEG frames (quality 80) a
 then times each stage of the export and prints the figures, with the HDF5's MB per minute.
 
     python3 benchmarks/bench_export.py [--minutes 1] [--repeat 3] [--keep DIR] [--rate HZ]
-        [--cameras 3] [--frames IMAGE] [--compression lzf|gzip|none] [--memory]
+        [--cameras 3] [--frames IMAGE] [--compression lzf|gzip|none]
+        [--image-size WxH|full] [--memory]
 
 The frames are 640x480 windows of IMAGE (default docs/images/sim_cameras.jpg: the simulated
 room and hand cameras), shifted a few pixels from frame to frame; give a photograph to see what
 a webcam's frames cost. --compression overrides the images' HDF5 filter (gzip: h5py's default
-level, 4).
+level, 4). --image-size scales the images as export does (default its 320x240; full: as
+recorded, 640x480).
 --keep DIR leaves the episode and its outputs (.hdf5, .csv, .png) in DIR to look at.
 --memory runs the whole export command instead (`export EPISODE --format all --rate HZ`) in a
 child process, --repeat times, and prints its peak resident memory, wall and CPU time, e.g.
@@ -41,7 +43,8 @@ from std_msgs.msg import Float32
 
 from robopuppet.baxter_description import arm_joint_names
 from robopuppet.cameras import jpeg
-from robopuppet.episodes import export, export_files, export_images, export_writers
+from robopuppet.episodes import (export, export_files, export_images, export_plot, export_size,
+                                 export_writers)
 from robopuppet.interface import BAXTER_CAMERAS, ROOM_CAMERA
 
 T0_NS = 1700000000 * 10**9
@@ -149,11 +152,12 @@ def timed(function, *args):
     return result, time.perf_counter() - started
 
 
-def export_command(bag_path, rate_hz, repeat):
+def export_command(bag_path, rate_hz, repeat, image_size):
     """Run the export command on the bag in a child process repeat times; print each run's peak
     resident memory (MB), wall and CPU time (s) and the files written."""
     argv = [sys.executable, '-c', 'from robopuppet.episodes import export_cli; '
-            'export_cli.main()', bag_path, '--format', 'all', '--rate', str(rate_hz)]
+            'export_cli.main()', bag_path, '--format', 'all', '--rate', str(rate_hz),
+            '--image-size', image_size, '--yes']
     for _ in range(repeat):
         started = time.perf_counter()
         child = subprocess.Popen(argv, stdout=subprocess.DEVNULL)
@@ -176,6 +180,8 @@ def main():
     parser.add_argument('--cameras', type=int, default=3, choices=range(len(CAMERAS) + 1))
     parser.add_argument('--frames', default=DEFAULT_FRAMES, metavar='IMAGE')
     parser.add_argument('--compression', choices=sorted(COMPRESSION))
+    parser.add_argument('--image-size', default='%dx%d' % export_size.DEFAULT_IMAGE_SIZE,
+                        metavar='WxH|full')
     parser.add_argument('--memory', action='store_true',
                         help='time the whole export command and print its peak memory')
     args = parser.parse_args()
@@ -183,6 +189,7 @@ def main():
     os.makedirs(directory, exist_ok=True)
     compression = (COMPRESSION[args.compression] if args.compression
                    else export_writers.IMAGE_COMPRESSION)
+    size = export_size.parse_size(args.image_size)
     try:
         frames = camera_frames(args.frames, args.cameras)
         (bag_path, count), write_s = timed(write_episode, directory, args.minutes, frames)
@@ -192,7 +199,7 @@ def main():
                   FRAME_RATE_HZ, np.mean([len(j) for f in frames for j in f] or [0]) / 1e3),
               flush=True)
         if args.memory:
-            export_command(bag_path, args.rate, args.repeat)
+            export_command(bag_path, args.rate, args.repeat, args.image_size)
             return
         stages = {}
         base = os.path.join(directory, NAME)
@@ -209,12 +216,12 @@ def main():
             cpu_s = time.process_time()
             _, t_images = timed(lambda: export_writers.write_hdf5(
                 base + '.hdf5', arrays, True, args.rate, NAME,
-                export_files.read_frames(bag_path, start), compression=compression))
+                export_files.read_frames(bag_path, start), compression=compression, size=size))
             cpu_s = time.process_time() - cpu_s
             _, t_csv = timed(lambda: open(base + '.csv', 'w').write(
                 ''.join(line + '\n' for line in export.csv_lines(arrays))))
-            series, t_series = timed(export_writers.plot_series, recording, arrays)
-            _, t_plot = timed(export_writers.write_plot, base + '.png', series, arrays['time'],
+            series, t_series = timed(export_plot.plot_series, recording, arrays)
+            _, t_plot = timed(export_plot.write_plot, base + '.png', series, arrays['time'],
                               NAME + ' (sim, benchmark)')
             for name, value in (('read bag', t_read), ('collect', t_collect),
                                 ('resample (%g Hz)' % args.rate, t_arrays),
@@ -232,9 +239,10 @@ def main():
             print('  %-18s %8.3f %28.3f' % (name, min(values), min(values) / args.minutes))
         print('  %-18s %8.3f %28.3f' % ('total', total, total / args.minutes))
         hdf5_mb = os.path.getsize(base + '.hdf5') / 1e6
-        print('T = %d steps; hdf5 with images (%s) %.1f MB (%.1f MB per minute), csv %.2f MB, '
+        print('T = %d steps; hdf5 with images (%s, %s) %.1f MB (%.1f MB per minute), csv %.2f MB, '
               'png %.2f MB' % (len(arrays['time']), args.compression or
-                               export_writers.IMAGE_COMPRESSION, hdf5_mb, hdf5_mb / args.minutes,
+                               export_writers.IMAGE_COMPRESSION, args.image_size, hdf5_mb,
+                               hdf5_mb / args.minutes,
                                os.path.getsize(base + '.csv') / 1e6,
                                os.path.getsize(base + '.png') / 1e6))
         print('peak resident memory of this process %.0f MB (decoded, the frames of one '

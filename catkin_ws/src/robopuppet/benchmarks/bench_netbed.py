@@ -7,7 +7,7 @@ Usage (as root, after `. tools/env.sh`):
 
 1. Raw link: stamped UDP packets (1000/s, and 5000/s for headroom) operator -> robot, for
    several settings: achieved one-way delay p50/p99 vs set, loss vs set, forwarder CPU.
-2. ROS traffic of issue 9 across the link, master on the robot host: the operator host
+2. ROS traffic across the link, master on the robot host: the operator host
    publishes both puppet arms at 100 Hz (joint_states, gripper_0..3, user_btn per arm), the
    robot host publishes Baxter's /robot/joint_states at 100 Hz; each side subscribes to the
    other's (the joint states with tcp_nodelay, as arm_X and serial_X subscribe). Printed:

@@ -12,7 +12,7 @@ each camera's image/compressed. It prints the recorder's CPU while idle (IDLE s,
 /proc/<pid>/stat), then records N episodes through /puppet/record and prints how long after the
 start each topic's first message was written, messages written vs published from then on, MB
 per minute and the recorder's CPU while recording.
-The other half of the issue 10 benchmark, the hand->JointCommand latency that recording adds, is
+The other half of the recording benchmark, the hand->JointCommand latency that recording adds, is
 measured by bench_teleop.py --record (the real stack and recorder on a played puppet).
 """
 import argparse

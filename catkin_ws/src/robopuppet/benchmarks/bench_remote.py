@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Benchmark: latency from a hand movement on the operator host to the JointCommand carrying it
-on the robot host, across the network test bed (issue 9), at several one-way delays.
+on the robot host, across the network test bed (docs/remote.md), at several one-way delays.
 
 Usage: benchmarks/bench_remote.py [--samples N] [--delays 0,10,50,100] [--jitter 0.1]
     [--tcp-cc reno|bbr] [--sysctl KEY=VALUE ...] [--one-host] [--rt-path] [--robot-args ARGS]

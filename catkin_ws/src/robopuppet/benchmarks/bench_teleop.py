@@ -17,7 +17,7 @@ the arm controller's loop) between the serial node and the arm node.
 
 Also printed: the CPU share of the host stack (config, serial and arm nodes) at each rate.
 
---record: recording on vs off instead (issue 10), at comm_rate 100 only, N samples per mode: no
+--record: recording on vs off instead, at comm_rate 100 only, N samples per mode: no
 recorder; the real recorder running idle (recorder.launch, record_sides:=R); and recording, an
 episode of the whole traffic (side R and Baxter's topics) started and stopped through
 /puppet/record. The modes run in R rounds of interleaved blocks (order reversed every other

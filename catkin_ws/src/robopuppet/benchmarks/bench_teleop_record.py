@@ -23,7 +23,7 @@ from robopuppet_msgs.srv import Record
 
 OFF, IDLE, ON = 'no recorder', 'recorder idle', 'recording'
 MODES = (OFF, IDLE, ON)
-TARGET_ADDED_MS = 1.0      # issue 10: recording adds at most this much to the p99
+TARGET_ADDED_MS = 1.0      # target: recording adds at most this much to the p99
 SETTLE_S = 3.0             # after the recorder's service is up: connections made, start-up over
 WATCHED = ('config', 'serial', 'arm', 'baxter_sim', 'recorder')
 

@@ -76,7 +76,6 @@ ZONE_MARKERS = '/robopuppet/keepout_zones'
 DIAG_LINK = 'puppet serial link'   # serial_X
 DIAG_TELEOP = 'teleoperation'      # arm_X
 DIAG_NETWORK = 'operator-robot link'  # arm_X: the link between the two hosts
-DEFAULT_SIM_LINK = '/tmp/robopuppet_arm_%s'  # % side: the simulated puppet's pty link
 
 # ---- Baxter's own API (Rethink's names: the real robot's, served by baxter_sim too) -----------
 ROBOT_STATE = '/robot/state'
@@ -85,6 +84,16 @@ SET_SUPER_ENABLE = '/robot/set_super_enable'
 SET_SUPER_RESET = '/robot/set_super_reset'
 SET_SUPER_STOP = '/robot/set_super_stop'
 SOFTWARE_VERSION_PARAM = '/rethink/software_version'
+
+
+def sim_link_prefix(master_uri, ros_home):
+    """Return the default path prefix of the simulated puppets' pty links, <prefix>_arm_<side>.
+
+    In this user's ROS_HOME and named after the ROS master, so that two systems on two masters
+    never share a link. arm.launch's sim_link_prefix default is the same expression.
+    """
+    master = master_uri.split('//')[-1].rstrip('/').replace(':', '_').replace('/', '_')
+    return '%s/robopuppet/pty_%s' % (ros_home, master)
 
 
 def limb_topic(side, name):
@@ -114,7 +123,7 @@ def baxter_gripper_topic(side, name):
 
 # ---- puppet enumerations (the wire codes index these tuples) ----------------------------------
 DEVICE_OPMODES = ('limp', 'hold')   # the firmware's two; the wire codes index these
-# feel: the device holds (gentle gains, setpoints streamed from Baxter's pose; DESIGN section 8)
+# feel: the device holds (gentle gains, setpoints streamed from Baxter's pose; docs/feel.md)
 OPMODES = DEVICE_OPMODES + ('feel',)
 LIMP, HOLD, FEEL = OPMODES
 ENC_STATUS = ('Working', 'Disconnected', 'Uncalibrated')

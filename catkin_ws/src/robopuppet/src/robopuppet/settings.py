@@ -119,7 +119,8 @@ FeelSetting = collections.namedtuple('FeelSetting', 'name unit default meaning l
 FEEL_SETTINGS = (
     FeelSetting('gain_scale', '', 0.25, 'pid_kp and pid_kd factor in feel mode (pid_ki is 0)',
                 0.0, 1.0),
-    FeelSetting('voltage_limit', 'V', 2.0, 'PID voltage bound in feel mode (+-)', 0.0, 12.0),
+    FeelSetting('voltage_limit', 'V', 2.0, 'PID voltage bound in feel mode (+-)', 0.0,
+                MOTOR_SUPPLY_V),   # more than the motors' supply would mean nothing
 )
 FEEL_NAMES = tuple(s.name for s in FEEL_SETTINGS)
 FEEL_DEFAULTS = {s.name: s.default for s in FEEL_SETTINGS}

@@ -14,7 +14,7 @@ from gui_testing import application, wait_for_subscribers, wait_until
 from robopuppet import interface
 from robopuppet.gui import camera_view
 from robopuppet.gui.camera_client import CameraClient
-from robopuppet.gui.main_tab import AMBER, GREEN, RED
+from robopuppet.gui.look import AMBER, GREEN, RED
 from robopuppet.gui.puppet_client import PuppetClient
 from robopuppet.gui.state import ArmState
 from robopuppet.gui.window import Window
@@ -61,11 +61,13 @@ class CameraGuiTest(unittest.TestCase):
 
     def test_the_tab_shows_flags_and_unsubscribes(self):
         me = rospy.get_name()
-        # Hidden (the main tab shows): no subscription.
+        # Hidden (another tab shows): no subscription.
+        self.window.tabs.setCurrentWidget(self.window.calibration_tab)
         self.frames_until(lambda: False, 1.0)
         self.assertNotIn(me, subscribers(CAMERA))
-        # Shown: it finds the camera on the master, subscribes and draws its frames.
-        self.window.tabs.setCurrentWidget(self.pane)
+        # Shown (the main tab, beside the status): it finds the camera on the master,
+        # subscribes and draws its frames.
+        self.window.tabs.setCurrentWidget(self.window.main_tab)
         self.assertTrue(self.frames_until(lambda: self.pane.view.has_image(), 20.0),
                         'no frame shown: %s' % self.pane.status.text())
         self.assertEqual(self.pane.camera, CAMERA)
@@ -106,7 +108,7 @@ class CameraGuiTest(unittest.TestCase):
         self.frames_until(lambda: self.window.frames >= frames + 5, 2.0)
         self.assertGreaterEqual(self.window.frames, frames + 5)
         # Hidden again: unsubscribed.
-        self.window.tabs.setCurrentWidget(self.window.main_tab)
+        self.window.tabs.setCurrentWidget(self.window.calibration_tab)
         self.assertTrue(wait_until(lambda: me not in subscribers(BAD_CAMERA), 5.0))
 
 

@@ -11,7 +11,7 @@ import rostest
 
 from gui_testing import application, wait_for_subscribers, wait_until
 from robopuppet import interface
-from robopuppet.gui import link_view, main_tab
+from robopuppet.gui import link_view, look, main_tab
 from robopuppet.gui.puppet_client import PuppetClient
 from robopuppet.gui.state import ArmState
 from robopuppet.gui.window import Window
@@ -50,7 +50,7 @@ class GuiRobotLinkTest(unittest.TestCase):
         timer = rospy.Timer(rospy.Duration(PUBLISH_PERIOD_S), lambda _: publisher.publish(msg))
         shown = 'Network slow: samples 310 ms old (limit 350 ms)'
         self.assertTrue(wait_until(lambda: status() == shown, 10.0), status())
-        self.assertIn(main_tab.AMBER, box.status_label.styleSheet())
+        self.assertIn(look.AMBER, box.status_label.styleSheet())
         self.assertEqual([box.rtt_label.text(), box.delay_label.text(), box.loss_label.text(),
                           box.where_label.text()],
                          ['Round trip: 104 ms', 'Delay to Baxter: 310 ms (limit 350 ms)',
@@ -63,7 +63,7 @@ class GuiRobotLinkTest(unittest.TestCase):
         rospy.loginfo('red %.2f s after the last LinkState was due', red_after_s)
         # The last message came at most one period before the stop; red needs > 1 s of silence.
         self.assertGreater(red_after_s, link_view.LINK_STATE_TIMEOUT_S - PUBLISH_PERIOD_S - 0.05)
-        self.assertIn(main_tab.RED, box.status_label.styleSheet())
+        self.assertIn(look.RED, box.status_label.styleSheet())
         self.assertTrue(puppet_healthy())
         self.assertEqual(box.where_label.text(), 'Problem: network or robot room')
         self.assertEqual(box.rtt_label.text(), 'Round trip: —')

@@ -123,7 +123,7 @@ class GuiSimTest(unittest.TestCase):
 
     def test_feel_without_baxter_ends_limp_and_never_drives_toward_0_rad(self):
         """Feel from the radio publishes feel (the GUI sends the current angles first, as for
-        hold); arm_R has no Baxter, so it ends feel at once (limp on opmode, DESIGN section 8):
+        hold); arm_R has no Baxter, so it ends feel at once (limp on opmode, docs/feel.md):
         the device may hold for a moment, only ever where the puppet is, and ends limp, and the
         radios show limp. The GUI's feel and arm_R's limp come from two publishers, so serial_R
         may get them in either order: with feel last, its feel watchdog (no setpoints for 0.5 s)

@@ -56,7 +56,7 @@ def second_recorder(*args):
 
 
 class RecorderSecondTest(unittest.TestCase):
-    """A tester starts a second recorder while the first records (issue 32 item 3)."""
+    """A tester starts a second recorder while the first records."""
 
     @classmethod
     def setUpClass(cls):

@@ -1,6 +1,7 @@
-"""Issue 9 item 5: with config/nftables/robopuppet.nft loaded on both hosts, a third host on the
-link (the intruder) reaches neither the ROS master, nor a subscriber's node port, nor a service
-on the operator host, while the peer host still reaches all three.
+"""docs/remote.md, "Locking the link down": with config/nftables/robopuppet.nft loaded on both
+hosts, a third host on the link (the intruder) reaches neither the ROS master, nor a
+subscriber's node port, nor a service on the operator host, while the peer host still reaches
+all three.
 
 The same three attacks are first made without the rule set and must succeed there: so the test
 shows that they are real attacks, and that the rule set (not a broken bed) stops them. The

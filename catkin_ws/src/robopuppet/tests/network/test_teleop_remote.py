@@ -1,4 +1,4 @@
-"""Teleoperation across the bed (issue 9): robot.launch on the robot host, operator.launch with
+"""Teleoperation across the bed (docs/remote.md): robot.launch on the robot host, operator.launch with
 the simulated puppet (comm_rate 10, the 2020 firmware's rate) on the operator host, the right
 puppet driving Baxter's right arm over a delayed, lossy link that gets cut and slowed.
 
@@ -135,7 +135,7 @@ def follow_the_hand(system):
 
 
 # 50 +- 10 ms one way (round trips of about 0.1 s, so arm_X counts every sample some 0.05 s
-# older than it is), without and with 1 % loss (issue 9). TCP resends a lost sample of the
+# older than it is), without and with 1 % loss. TCP resends a lost sample of the
 # firmware's 10 Hz stream a round trip after the next sample; one that then arrives over the
 # 0.35 s bound is dropped, not followed, and arm_R goes on with the sample behind it.
 # Baxter stops, rightly, when no usable sample comes for the state timeout: when the machine,

@@ -5,3 +5,8 @@ This must happen here, before pytest-qt configures itself; a test module is too 
 import os
 
 os.environ.setdefault('PYTEST_QT_API', 'pyqt5')
+
+
+def pytest_configure(config):
+    # `./test.sh unit` (the quick loop) leaves these out; `./test.sh` runs them.
+    config.addinivalue_line('markers', 'slow: a heavy property test (tens of seconds)')

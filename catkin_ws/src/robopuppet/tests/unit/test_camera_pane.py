@@ -13,7 +13,7 @@ from sensor_msgs.msg import CompressedImage  # noqa: E402
 from robopuppet.gui import camera_view  # noqa: E402
 from robopuppet.gui.camera_client import CameraClient  # noqa: E402
 from robopuppet.gui.camera_pane import CameraPane  # noqa: E402
-from robopuppet.gui.main_tab import AMBER, GREEN, RED  # noqa: E402
+from robopuppet.gui.look import AMBER, GREEN, RED  # noqa: E402
 from robopuppet.gui.window import Window  # noqa: E402
 from test_gui_widgets import FakeClient  # noqa: E402
 
@@ -224,20 +224,23 @@ def test_a_camera_chosen_in_the_chooser_stays_chosen_when_the_list_changes(qtbot
     assert pane.chooser.currentData() == 'room_camera'
 
 
-def test_the_window_subscribes_only_while_the_cameras_tab_is_shown(qtbot):
+def test_the_window_subscribes_only_while_the_main_tab_is_shown(qtbot):
     client = CameraClientDouble()
     window = Window(FakeClient(), debug_mode=False, cameras=client)
     qtbot.addWidget(window)
+    window.tabs.setCurrentWidget(window.calibration_tab)
     window.show()
     qtbot.waitExposed(window)
-    assert window.tabs.tabText(1) == 'Cameras'
-    window.tabs.setCurrentWidget(window.camera_pane)
+    assert client.active() == []  # another tab shows: no subscription
+    assert window.tabs.tabText(0) == 'Main' and window.tabs.count() == 2  # no Cameras tab
+    window.tabs.setCurrentWidget(window.main_tab)  # the camera is on the main tab
+    assert window.tabs.currentWidget() is window.main_tab
     qtbot.waitUntil(lambda: client.camera_list() is not None)
     window.frame()
-    assert client.active() == ['bench']
+    assert client.active() == ['bench']  # right_hand_camera does not publish here
     client.publish(jpeg_of((0, 0, 255)))
     window.frame()
     assert window.camera_pane.view.has_image()
-    window.tabs.setCurrentWidget(window.main_tab)
+    window.tabs.setCurrentWidget(window.calibration_tab)
     assert client.active() == []
-    window.frame()  # draws the main tab only
+    window.frame()  # draws the calibration tab only

@@ -74,5 +74,8 @@ def test_the_gui_refuses_what_the_config_node_refuses():
     texts.update(voltage_max='1e20', pid_kp='3.4e38')
     with pytest.raises(settings_form.EntryError) as error:
         settings_form.parse_form(2, texts)
-    assert 'joint 2 voltage_max' in str(error.value) and 'outside its bound' in str(error.value)
-    assert 'joint 2 pid_kp' in str(error.value)
+    # The same problems as config_X's, each shown beside its field (without 'joint 2 ').
+    fields = error.value.by_field()
+    assert set(fields) == {'voltage_max', 'pid_kp'}
+    assert 'outside its bound' in fields['voltage_max'][0]
+    assert 'outside its bound' in fields['pid_kp'][0]

@@ -113,6 +113,7 @@ def test_rate_problem_beyond_20_percent(measured, expected, warns):
     assert bool(problem) == warns
     if warns:
         assert 'comm_rate' in problem and 'compile-time' in problem
+        assert 'simulated puppet' in problem and 'loaded' in problem  # no bad advice there
 
 
 def test_launch_files_say_comm_rate_does_not_set_the_firmwares_rate():

@@ -5,7 +5,7 @@ from types import SimpleNamespace as Msg
 import numpy as np
 import pytest
 
-from robopuppet.episodes import export, export_stream, export_writers
+from robopuppet.episodes import export, export_plot, export_stream
 from robopuppet.episodes.export import Samples
 
 T0 = 100.0  # grid 100.0, 100.0625, 100.125 at 16 Hz: binary fractions, so sums are exact
@@ -128,7 +128,7 @@ def test_csv_lines_are_rethinks_rows():
 
 def test_plot_series_maps_the_driving_puppet_onto_the_arm():
     recording = export.collect(messages())
-    series = export_writers.plot_series(recording, export.aloha_arrays(recording, RATE_HZ))
+    series = export_plot.plot_series(recording, export.aloha_arrays(recording, RATE_HZ))
     assert list(series) == ['right']
     right = series['right']
     assert right['driver'] == 'R'
@@ -144,7 +144,7 @@ def test_the_opposite_arm_mirrors_joints_0_2_4_6():
     command = ('/robot/limb/left/joint_command', Msg(mode=1, names=LEFT, command=[0.0] * 7), T0)
     recording = export.collect([m for m in messages() if 'right' not in m[0]]
                                + [following, command])
-    series = export_writers.plot_series(recording, export.aloha_arrays(recording, RATE_HZ))
+    series = export_plot.plot_series(recording, export.aloha_arrays(recording, RATE_HZ))
     assert list(series) == ['left'] and series['left']['driver'] == 'R'
     assert series['left']['puppet'][0].tolist() == [-0.3, 0.2, -0.1, 0, 0, 0, -0.6]
 
@@ -196,11 +196,11 @@ def test_the_streamed_rows_and_plot_series_are_the_whole_episodes(puppet_end_s):
     rows = {key: np.concatenate([b[key] for b in blocks]) for key in whole}
     for key in whole:
         np.testing.assert_allclose(rows[key], whole[key], rtol=0, atol=1e-12, err_msg=key)
-    streamed = export_writers.plot_rows(
+    streamed = export_plot.plot_rows(
         rows, *[{s: np.concatenate([b[key][s] for b in blocks]) for s in export.PUPPET_SIDES}
                 for key in ('puppet', 'end_piece')],
         stream.commanded_sides, stream.puppet_sides, stream.follow)
-    expected = export_writers.plot_series(recording, whole)
+    expected = export_plot.plot_series(recording, whole)
     assert list(streamed) == list(expected) == ['right']
     for key, value in expected['right'].items():
         if key == 'driver':
@@ -208,3 +208,49 @@ def test_the_streamed_rows_and_plot_series_are_the_whole_episodes(puppet_end_s):
         else:
             np.testing.assert_allclose(streamed['right'][key], value, rtol=0, atol=1e-12,
                                        err_msg=key)
+
+
+def flat_and_overshooting_series(steps=50):
+    """Return plot series of the right arm: joint 0's puppet trace 10 deg above commanded and
+    measured; joint 1 not moving (its error ~1e-15 rad); others a slow ramp."""
+    ramp = np.linspace(0.0, 0.5, steps)[:, None] * np.ones((1, 7))
+    measured = ramp.copy()
+    measured[:, 1] = 0.3
+    commanded = measured + 1e-3
+    commanded[:, 1] = 0.3 + 1e-15 * np.sin(np.arange(steps))
+    puppet = commanded.copy()
+    puppet[:, 0] += np.radians(10.0)
+    return {'right': {'driver': 'R', 'puppet': puppet, 'commanded': commanded,
+                      'measured': measured, 'error': commanded - measured,
+                      'gripper_commanded': np.ones(steps), 'gripper_measured': np.ones(steps),
+                      'end_piece': np.ones(steps)}}
+
+
+def test_plot_limits_hold_every_trace_and_a_flat_error_looks_flat():
+    series = flat_and_overshooting_series()
+    figure = export_plot.plot_figure(series, np.arange(50) * 0.02, 'test')
+    axes = figure.axes
+    try:
+        s0, s1_error = axes[0], axes[3]  # rows of (value, error): s0 then s1's error panel
+        low, high = s0.get_ylim()
+        for line in s0.get_lines():  # the puppet's trace (10 deg above) included
+            assert low <= np.nanmin(line.get_ydata()) and np.nanmax(line.get_ydata()) <= high
+        assert np.degrees(series['right']['puppet'][:, 0]).max() < high
+        figure.canvas.draw()  # the legend sits above the panel, not on its traces' tops
+        assert s0.get_legend().get_window_extent().y0 >= s0.get_window_extent().y1 - 1
+        low, high = s1_error.get_ylim()
+        assert low <= -1.0 and high >= 1.0  # not 1e-15 blown up to fill the panel
+        assert high - low < 2.5
+    finally:
+        import matplotlib.pyplot as plt
+        plt.close(figure)
+
+
+def test_y_limits_have_a_margin_a_minimum_range_and_ignore_nan():
+    assert export_plot.y_limits([np.array([0.0, 10.0])], 1.0) == (-0.8, 10.8)
+    assert export_plot.y_limits([np.array([5.0, 5.0]), np.array([np.nan])], 1.0) == (4.0, 6.0)
+    assert export_plot.y_limits([np.array([1e-15, -1e-15])], 1.0, include_zero=True) == (
+        -1.0, 1.0)
+    assert export_plot.y_limits([np.array([0.5, 3.0])], 1.0, include_zero=True) == (
+        -1.0, pytest.approx(3.24))  # at least 1 either side of 0
+    assert export_plot.y_limits([np.array([np.nan])], 0.05) == (-0.05, 0.05)

@@ -66,6 +66,7 @@ def test_the_hdf5_opens_with_h5py_in_alohas_layout(tmp_path):
     with h5py.File(str(tmp_path / 'episode_20240102-030405.hdf5'), 'r') as root:
         assert root.attrs['sim'] == True  # noqa: E712  (h5py gives numpy.bool_)
         assert root.attrs['rate_hz'] == 20.0
+        assert root.attrs['fps'] == 20.0  # the name LeRobot's ALOHA datasets give the rate
         assert list(root.attrs['columns']) == export.COLUMNS
         for name in ('/observations/qpos', '/observations/qvel', '/observations/effort',
                      '/action'):

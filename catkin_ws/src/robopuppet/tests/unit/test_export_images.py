@@ -11,7 +11,7 @@ import yaml
 from sensor_msgs.msg import CompressedImage
 
 from robopuppet.cameras import jpeg
-from robopuppet.episodes import export, export_cli, export_images
+from robopuppet.episodes import export, export_cli, export_images, export_size
 from test_export_files import T0_S, run, write_episode
 
 # BGR, as OpenCV and the camera nodes hold images; the export must give RGB
@@ -132,7 +132,7 @@ def test_the_hdf5_holds_each_cameras_images_on_the_grid(tmp_path, capsys, monkey
                           ('room_camera', 0.42, 'green'), ('room_camera', 0.7, GARBAGE)],
                cameras=['room_camera', 'left_hand_camera', 'right_hand_camera'])
     monkeypatch.setattr(export_cli, 'PROGRESS_PERIOD_S', 0.0)
-    assert run([str(bag_path), '--rate', '10']) == 0
+    assert run([str(bag_path), '--rate', '10', '--image-size', 'full']) == 0
     images = read_images(tmp_path / 'episode_20240102-030405.hdf5')
     assert sorted(images) == ['right_hand_camera', 'room_camera']
     room, chunks, compression = images['room_camera']
@@ -169,9 +169,54 @@ def test_an_episode_without_cameras_gets_an_empty_images_group(tmp_path):
 
 def test_camera_options_need_the_hdf5_and_exclude_each_other(capsys):
     for argv in (['e', '--cameras', 'a', '--no-images'], ['e', '--format', 'csv', '--no-images'],
-                 ['e', '--cameras', ',']):
+                 ['e', '--cameras', ','], ['e', '--image-size', '320'],
+                 ['e', '--image-size', '8x8'], ['e', '--format', 'csv', '--image-size', 'full'],
+                 ['e', '--plot', '--format', 'csv', '--act-dir', 'd']):
         with pytest.raises(SystemExit):
             export_cli.parse_args(argv)
     assert export_cli.parse_args(['e', '--cameras', 'a, b']).cameras == ['a', 'b']
     assert export_cli.parse_args(['e']).cameras is None
     capsys.readouterr()
+
+
+def test_images_are_scaled_to_320x240_by_default_or_to_the_size_asked(tmp_path):
+    bag_path = write_episode(tmp_path)
+    add_frames(bag_path, [('room_camera', 0.0, 'red'), ('room_camera', 0.5, 'green')])
+    hdf5 = tmp_path / 'episode_20240102-030405.hdf5'
+    assert run([str(bag_path), '--rate', '10']) == 0
+    room, chunks, _ = read_images(hdf5)['room_camera']
+    assert room.shape == (11, 240, 320, 3) and chunks == (1, 240, 320, 3)
+    assert colours(room) == ['red'] * 5 + ['green'] * 6
+    assert run([str(bag_path), '--rate', '10', '--image-size', '64x48',
+                '--compression', 'gzip']) == 0
+    room, chunks, compression = read_images(hdf5)['room_camera']
+    assert room.shape == (11, 48, 64, 3) and compression == 'gzip'
+    assert export_cli.parse_args(['e', '--image-size', 'full']).image_size is None
+    assert export_cli.parse_args(['e', '--image-size', '640x480']).image_size == (640, 480)
+
+
+def test_the_size_is_said_before_writing_and_a_big_file_needs_yes(tmp_path, capsys,
+                                                                 monkeypatch):
+    bag_path = write_episode(tmp_path)
+    add_frames(bag_path, [('room_camera', 0.0, 'red'), ('right_hand_camera', 0.0, 'blue')])
+    hdf5 = tmp_path / 'episode_20240102-030405.hdf5'
+    assert run([str(bag_path), '--rate', '10', '--image-size', 'full',
+                '--compression', 'none']) == 0
+    out = capsys.readouterr().out
+    # 11 steps x (4 row datasets of 16 float32 + 2 raw 32x24 RGB images)
+    expected = 11 * (4 * 16 * 4 + 2 * 32 * 24 * 3)
+    assert ('the HDF5 will be about 54 kB: 11 steps x 2 cameras (right_hand_camera 32x24, '
+            'room_camera 32x24), 2 kB an image (uncompressed') in out and expected == 53504
+    assert out.index('the HDF5 will be about') < out.index('images of ')
+    assert abs(hdf5.stat().st_size - expected) < 0.1 * expected + 20000  # within HDF5's own
+    hdf5.unlink()
+    monkeypatch.setattr(export_size, 'LIMIT_BYTES', 1000.0)
+    assert run([str(bag_path), '--rate', '10']) == 1
+    err = capsys.readouterr().err
+    assert 'the HDF5 would be about' in err and 'add --yes to write it' in err
+    assert not hdf5.exists()
+    assert run([str(bag_path), '--rate', '10', '--yes']) == 0
+    assert hdf5.exists()
+    capsys.readouterr()
+    assert run([str(bag_path), '--format', 'csv']) == 0  # no HDF5: nothing to estimate
+    assert 'the HDF5 will be' not in capsys.readouterr().out

@@ -36,7 +36,8 @@ def test_a_stored_voltage_range_inside_the_limit_is_kept_and_one_outside_it_coll
 
 def test_the_feel_profile_stays_within_what_the_config_node_would_store():
     stored = joint(pid_kp=settings.MAX_GAIN, pid_kd=settings.MAX_GAIN)
-    active = feel_profile.feel_joint(stored, {'gain_scale': 1.0, 'voltage_limit': 12.0})
+    active = feel_profile.feel_joint(stored, {'gain_scale': 1.0,
+                                              'voltage_limit': settings.MOTOR_SUPPLY_V})
     assert config_store.check_request(stored, 0, list(active), list(active.values())) == active
 
 
@@ -77,8 +78,10 @@ def test_feel_values_are_read_and_written_back_as_they_are():
     ('gain_scale = 1.5', 'gain_scale = 1.5: invalid (outside its bound (0, 1])'),
     ('gain_scale = nan', 'gain_scale = nan: invalid (outside its bound (0, 1])'),
     ('gain_scale = soft', "gain_scale = soft: invalid (not a number)"),
-    ('voltage_limit = 12.5', 'voltage_limit = 12.5: invalid (outside its bound (0, 12] V)'),
-    ('voltage_limit = -2', 'voltage_limit = -2: invalid (outside its bound (0, 12] V)'),
+    # Not above the motors' 7.2 V supply: a limit of 12 V would read as a bound and be none.
+    ('voltage_limit = 12', 'voltage_limit = 12: invalid (outside its bound (0, 7.2] V)'),
+    ('voltage_limit = 7.3', 'voltage_limit = 7.3: invalid (outside its bound (0, 7.2] V)'),
+    ('voltage_limit = -2', 'voltage_limit = -2: invalid (outside its bound (0, 7.2] V)'),
 ])
 def test_a_bad_feel_value_is_a_problem_the_default_and_repaired(line, words):
     name = line.split()[0]
@@ -112,7 +115,7 @@ def test_the_file_is_repaired_for_a_bad_feel_value_and_left_alone_without_a_sect
     path.write_text(good.replace('voltage_limit = 2', 'voltage_limit = 20'))
     loaded = config_file.load_or_create(str(path), '', 'stamp')
     assert loaded.problems == ['%s: [feel] voltage_limit = 20: invalid (outside its bound '
-                               '(0, 12] V), using default 2' % path]
+                               '(0, 7.2] V), using default 2' % path]
     assert path.read_text() == loaded.text == good
     assert (tmp_path / 'arm_L.ini.bak-stamp').exists()
     old = good[:good.index('# Feel mode')]

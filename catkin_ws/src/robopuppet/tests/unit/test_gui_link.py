@@ -6,7 +6,7 @@ os.environ.setdefault('QT_QPA_PLATFORM', 'offscreen')
 
 import pytest  # noqa: E402
 
-from robopuppet.gui import link_box, link_view, main_tab, puppet_client, state  # noqa: E402
+from robopuppet.gui import link_box, link_view, look, main_tab, puppet_client, state  # noqa: E402
 from robopuppet.gui.link_view import ERROR, NETWORK, OK, OPERATOR, ROBOT, UNHEARD, WARN  # noqa
 from robopuppet.gui.window import Window  # noqa: E402
 from robopuppet_msgs.msg import LinkState  # noqa: E402
@@ -178,8 +178,8 @@ def test_the_client_keeps_link_state_with_its_receive_time():
 # --- the widget, on the main tab --------------------------------------------------------------
 
 def test_box_colours_are_the_main_tabs():
-    assert link_box.LEVEL_COLOUR == {OK: main_tab.GREEN, WARN: main_tab.AMBER,
-                                     ERROR: main_tab.RED}
+    assert link_box.LEVEL_COLOUR == {OK: look.GREEN, WARN: look.AMBER,
+                                     ERROR: look.RED}
 
 
 @pytest.fixture
@@ -204,23 +204,23 @@ def test_the_main_tab_shows_the_link_and_turns_red_when_it_goes_quiet(window):
     window.frame()
     assert box.isVisible() and box.title() == 'Link to the robot room'
     assert box.status_label.text().startswith('No link to the robot room')
-    assert main_tab.RED in box.status_label.styleSheet()
+    assert look.RED in box.status_label.styleSheet()
     arm.on_heartbeat(NOW_S - 0.2)
     arm.on_robot_link(robot_link(received_s=NOW_S - 0.1))
     window.frame()
     assert shown(box) == ['Link to the robot room: OK', 'Round trip: 104 ms',
                           'Delay to Baxter: 62 ms (limit 350 ms)',
                           'Pings lost: 0 % in the last few seconds', 'Problem: none']
-    assert main_tab.GREEN in box.status_label.styleSheet()
+    assert look.GREEN in box.status_label.styleSheet()
     arm.on_robot_link(robot_link(level=WARN, fault=NETWORK, detail='samples 310 ms old'))
     window.frame()
     assert box.status_label.text() == 'Network slow: samples 310 ms old'
-    assert main_tab.AMBER in box.status_label.styleSheet()
+    assert look.AMBER in box.status_label.styleSheet()
     window.client.time_s = NOW_S + 2.0  # link_state stops; the puppet's heartbeat is 2.2 s old
     window.frame()
     assert box.status_label.text().startswith('No link to the robot room: nothing heard for '
                                               '2.1 s')
-    assert main_tab.RED in box.status_label.styleSheet()
+    assert look.RED in box.status_label.styleSheet()
     assert box.where_label.text() == 'Problem: network or robot room'
 
 

@@ -12,7 +12,8 @@ from PyQt5 import QtCore, QtGui  # noqa: E402
 
 from robopuppet import settings  # noqa: E402
 from robopuppet.config import config_store  # noqa: E402
-from robopuppet.gui import joint_tab, main_tab, puppet_client, settings_form, state  # noqa: E402
+from robopuppet.gui import (joint_tab, look, main_tab, puppet_client,  # noqa: E402
+                            settings_form, state)
 from robopuppet.gui.puppet_client import ConfigUnavailable, SetAnswer  # noqa: E402
 from robopuppet.gui.window import Window  # noqa: E402
 from robopuppet.puppet_sim.puppet_arm import REST_POSE_RAD  # noqa: E402
@@ -113,16 +114,16 @@ def test_main_tab_shows_injected_state(window, client):
     table = tab.joint_table
     assert [table.item(r, 0).text() for r in range(3)] == ['Working', 'Uncalibrated',
                                                            'Disconnected']
-    assert background(table.item(0, 0)) == QtGui.QColor(main_tab.GREEN).name()
-    assert background(table.item(1, 0)) == QtGui.QColor(main_tab.AMBER).name()
-    assert background(table.item(2, 0)) == QtGui.QColor(main_tab.RED).name()
+    assert background(table.item(0, 0)) == QtGui.QColor(look.GREEN).name()
+    assert background(table.item(1, 0)) == QtGui.QColor(look.AMBER).name()
+    assert background(table.item(2, 0)) == QtGui.QColor(look.RED).name()
     assert table.item(4, 1).text() == '+0.400'
     assert table.item(4, 2).text() == '-1.50'
     assert tab.gripper_table.item(3, 0).text() == '+0.980'
     assert tab.gripper_table.item(0, 0).text() == '—'
     assert 'held: 2' in tab.button_label.text()
     assert '0.5 s ago' in tab.heartbeat_label.text()
-    assert main_tab.GREEN in tab.heartbeat_label.styleSheet()
+    assert look.GREEN in tab.heartbeat_label.styleSheet()
     assert tab.teleop_label.text() == 'no arm controller'
     assert 'no serial link diagnostics for /puppet/arm_R' in tab.link_label.text()
 
@@ -131,7 +132,7 @@ def test_stale_heartbeat_turns_red(window, client):
     client.state.on_heartbeat(90.0)
     window.frame()
     label = window.main_tab.heartbeat_label
-    assert '10.0 s ago' in label.text() and main_tab.RED in label.styleSheet()
+    assert '10.0 s ago' in label.text() and look.RED in label.styleSheet()
 
 
 def test_teleop_and_serial_link(window, client):
@@ -146,7 +147,7 @@ def test_teleop_and_serial_link(window, client):
     assert tab.hold_radio.isChecked() and not tab.limp_radio.isChecked()
     link = tab.link_label.text()
     assert 'ERROR' in link and 'no data for 3 s' in link and 'frames dropped: 12' in link
-    assert main_tab.RED in tab.link_label.styleSheet()
+    assert look.RED in tab.link_label.styleSheet()
 
 
 def test_each_opmode_radio_publishes_its_mode(qtbot, window, client):
@@ -209,8 +210,8 @@ def test_error_columns_compare_with_the_mirrored_arm_the_puppet_drives(window, c
     assert column(table, main_tab.ERROR_COLUMN) == [
         '-0.010', '+0.000', '-0.100', '+0.000', '+0.050', '+0.000', '-0.300']
     colours = [background(table.item(r, main_tab.ERROR_COLUMN)) for r in (0, 2, 6)]
-    assert colours == [QtGui.QColor(c).name() for c in (main_tab.GREEN, main_tab.AMBER,
-                                                        main_tab.RED)]
+    assert colours == [QtGui.QColor(c).name() for c in (look.GREEN, look.AMBER,
+                                                        look.RED)]
     arm.on_teleop(feel_teleop(True, True))  # both follow: its own side, as is
     window.frame()
     assert table.horizontalHeaderItem(main_tab.BAXTER_COLUMN).text() == \
@@ -223,7 +224,7 @@ def test_error_columns_compare_with_the_mirrored_arm_the_puppet_drives(window, c
     assert background(table.item(6, main_tab.ERROR_COLUMN)) == background(table.item(6, 1))
     arm.on_teleop(feel_teleop(False, False))  # in feel the puppet pulls toward it: judged
     window.frame()
-    assert background(table.item(6, main_tab.ERROR_COLUMN)) == QtGui.QColor(main_tab.RED).name()
+    assert background(table.item(6, main_tab.ERROR_COLUMN)) == QtGui.QColor(look.RED).name()
     arm.on_teleop(feel_teleop(True, True))
     client.time_s = 101.5  # Baxter's pose is 1.6 s old: not shown
     window.frame()
@@ -245,18 +246,20 @@ def test_the_line_names_the_zone_or_says_baxter_lags(window, client):
     arm.on_teleop(feel_teleop(True, False, zone_left='patient head'))
     window.frame()
     assert tab.tracking_label.text() == "keep-out zone 'patient head' holds back Baxter's left arm"
-    assert main_tab.AMBER in tab.tracking_label.styleSheet()
+    assert look.AMBER in tab.tracking_label.styleSheet()
     arm.on_teleop(feel_teleop(True, False))  # out of the zone; joint 6 still 0.3 rad off
     window.frame()
     assert tab.tracking_label.text() == 'Baxter tracks the puppet'  # not for long yet
     client.time_s = 100.6
     robot_joints(arm, 100.6)
+    arm.on_teleop(feel_teleop(True, False, received_s=100.5))  # arm_X reports every 0.5 s
     window.frame()
     client.time_s = 101.1
     robot_joints(arm, 101.1)
+    arm.on_teleop(feel_teleop(True, False, received_s=101.0))
     window.frame()
     assert tab.tracking_label.text() == 'Baxter lags: left arm, joint 6 off by -0.30 rad'
-    assert main_tab.RED in tab.tracking_label.styleSheet()
+    assert look.RED in tab.tracking_label.styleSheet()
     arm.on_angle(6, -1.2, 101.1)  # the puppet gives way: caught up
     window.frame()
     assert tab.tracking_label.text() == 'Baxter tracks the puppet'
@@ -491,11 +494,11 @@ def test_virtual_puppet_panel_publishes_hand_buttons_and_end_piece(qtbot, client
     qtbot.mousePress(panel.user_buttons[1], QtCore.Qt.LeftButton)
     assert sim.buttons[-1] == 2
     qtbot.mouseRelease(panel.user_buttons[1], QtCore.Qt.LeftButton)
-    assert sim.buttons[-1] == 0
+    qtbot.waitUntil(lambda: sim.buttons[-1] == 0, timeout=1000)  # held MIN_PRESS_S at least
     qtbot.mousePress(panel.end_piece_button, QtCore.Qt.LeftButton)
     assert sim.grippers[-1] == [0.0, 0.0, 0.0, 0.0]  # end piece pressed
     qtbot.mouseRelease(panel.end_piece_button, QtCore.Qt.LeftButton)
-    assert sim.grippers[-1] == [0.0, 0.0, 0.0, 1.0]
+    qtbot.waitUntil(lambda: sim.grippers[-1] == [0.0, 0.0, 0.0, 1.0], timeout=1000)
     panel.gripper_sliders[1].setValue(40)
     assert sim.grippers[-1] == [0.0, 0.4, 0.0, 1.0]
     assert win.joint_tabs == [] and win.tabs.count() == 2  # main and calibration

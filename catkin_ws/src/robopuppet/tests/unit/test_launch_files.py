@@ -5,7 +5,9 @@ import sys
 import xml.etree.ElementTree as ET
 
 import pytest
+import roslaunch.arg_dump
 import roslaunch.config
+import rospkg
 
 from robopuppet import interface
 from robopuppet.calibration import procedure
@@ -14,14 +16,25 @@ LAUNCH_DIR = os.path.join(os.path.dirname(__file__), '..', '..', 'launch')
 TEST_DIR = os.path.join(os.path.dirname(__file__), '..', 'integration')
 LAUNCH = os.path.join(LAUNCH_DIR, 'arm.launch')
 LAUNCH_FILES = ('arm.launch', 'puppet.launch', 'main_sim.launch', 'baxter_sim.launch',
-                'ghost.launch', 'recorder.launch', 'operator.launch', 'robot.launch')
+                'ghost.launch', 'recorder.launch', 'operator.launch', 'robot.launch',
+                'diagnostics.launch')
 # The seed's Table 5 defaults, but frame_rate: 30 Hz (pyqtgraph) where the 2020 Tk GUI used 8.
 TABLE_5 = {'arm_side': 'L', 'port_name': '/dev/ttyACM0', 'comm_rate': '10.0',
            'frame_rate': '30.0', 'debug_mode': 'true'}
-# An argument that an including file declares again, with a default of its own on purpose.
+# An argument that a file declares with another default than the file it includes, on purpose.
 OVERRIDES = {('main_sim.launch', 'run_side_L'): 'the simulated system runs the right arm only',
              ('puppet.launch', 'gui'): 'arm.launch alone opens no GUI; puppet.launch one per arm',
              ('operator.launch', 'record_sides'): 'the operator host records the arms it runs'}
+# An argument of an included file that the including file does not offer its user.
+NOT_OFFERED = {
+    ('puppet.launch', 'sim_link'): 'one link per arm: sim_link_prefix names both',
+    ('operator.launch', 'max_sample_age'): "arm_X's, on the robot host",
+    ('operator.launch', 'zones_file'): "arm_X's, on the robot host",
+    **{('robot.launch', arg): "the operator host's" for arg in (
+        'port_L', 'port_R', 'frame_rate', 'debug_mode', 'sim_puppet', 'sim_link_prefix')},
+    ('main_sim.launch', 'sim_robot'): 'the simulated system always runs the stand-in',
+    ('main_sim.launch', 'port_L'): 'the simulated puppets have no serial port',
+    ('main_sim.launch', 'port_R'): 'the simulated puppets have no serial port'}
 
 
 def load_config(*args, launch=LAUNCH):
@@ -40,31 +53,41 @@ def load(*args, launch=LAUNCH):
     return {n.name: n for n in config.nodes}, {k: p.value for k, p in config.params.items()}
 
 
-def declared_defaults(launch_dir):
-    """Return {file: {arg: default}} and {file: [included file]} of the launch files in a folder."""
-    defaults, includes = {}, {}
+def user_args(root):
+    """Return {name: (default or None, doc)} of a launch file's own arguments (not value=)."""
+    return {a.get('name'): (a.get('default'), a.get('doc')) for a in root.findall('arg')
+            if a.get('value') is None}
+
+
+def include_edges(launch_dir):
+    """Return {file: {arg: (default, doc)}} and {file: [(included file, {args it sets})]}."""
+    args, edges = {}, {}
     for path in glob.glob(os.path.join(launch_dir, '*.launch')):
         root, name = ET.parse(path).getroot(), os.path.basename(path)
-        defaults[name] = {a.get('name'): a.get('default') for a in root.findall('arg')
-                          if a.get('default') is not None}
-        includes[name] = [os.path.basename(i.get('file')) for i in root.iter('include')]
-    return defaults, includes
+        args[name] = user_args(root)
+        edges[name] = [(os.path.basename(i.get('file')), {a.get('name') for a in i.findall('arg')})
+                       for i in root.iter('include')]
+    return args, edges
 
 
-def below(name, includes):
-    """Yield the files that a file includes, directly or not."""
-    for child in includes.get(name, []):
-        yield child
-        yield from below(child, includes)
+def args_not_offered(launch_dir, not_offered=()):
+    """Return (file, arg, included file): an argument of an included file, not set by the
+    include, that the including file neither declares (so that roslaunch's ros-args option
+    lists it) nor lists in not_offered."""
+    args, edges = include_edges(launch_dir)
+    return sorted({(name, arg, child) for name in args for child, given in edges[name]
+                   for arg in args.get(child, {}).keys() - given - args[name].keys()
+                   if (name, arg) not in not_offered})
 
 
-def defaults_declared_twice(launch_dir, overrides=()):
-    """Return (file, arg, included file) for each default that a file declares again although a
-    file it includes (directly or not) declares it already, but the given overrides."""
-    defaults, includes = declared_defaults(launch_dir)
-    return sorted({(name, arg, child) for name in defaults for child in below(name, includes)
-                   for arg in defaults[name].keys() & defaults.get(child, {}).keys()
-                   if (name, arg) not in overrides})
+def defaults_that_disagree(launch_dir, overrides=()):
+    """Return (file, arg, default, included file, its default) for each argument whose default
+    differs from the one of a file it passes on to, but the given overrides."""
+    args, edges = include_edges(launch_dir)
+    return sorted({(name, arg, args[name][arg][0], child, args[child][arg][0])
+                   for name in args for child, given in edges[name]
+                   for arg in args[name].keys() & args.get(child, {}).keys() - given
+                   if args[name][arg][0] != args[child][arg][0] and (name, arg) not in overrides})
 
 
 def test_arguments_of_table_5_plus_sim_puppet_and_gui_all_documented():
@@ -74,24 +97,56 @@ def test_arguments_of_table_5_plus_sim_puppet_and_gui_all_documented():
     assert all(a.get('doc') for a in args.values())
 
 
-def test_each_default_is_declared_in_one_launch_file():
-    assert defaults_declared_twice(LAUNCH_DIR, OVERRIDES) == []
+def test_every_argument_of_an_included_file_is_offered_by_the_including_file():
+    assert args_not_offered(LAUNCH_DIR, NOT_OFFERED) == []
+
+
+def test_each_default_agrees_with_the_file_it_passes_on_to():
+    assert defaults_that_disagree(LAUNCH_DIR, OVERRIDES) == []
 
 
 def test_each_deliberate_override_differs_from_the_default_it_overrides():
-    defaults, includes = declared_defaults(LAUNCH_DIR)
+    args, edges = include_edges(LAUNCH_DIR)
     for name, arg in OVERRIDES:
-        overridden = {defaults[c][arg] for c in below(name, includes)
-                      if arg in defaults.get(c, {})}
-        assert overridden and defaults[name][arg] not in overridden, (name, arg)
+        below = {args[c][arg][0] for c, given in edges[name] if arg in args[c].keys() - given}
+        assert below and args[name][arg][0] not in below, (name, arg)
 
 
-def test_the_check_finds_a_default_declared_again_two_includes_down(tmp_path):
+def test_the_checks_find_an_argument_hidden_or_defaulted_otherwise(tmp_path):
     (tmp_path / 'top.launch').write_text(
-        '<launch><arg name="rate" default="10.0"/><include file="mid.launch"/></launch>')
-    (tmp_path / 'mid.launch').write_text('<launch><include file="arm.launch"/></launch>')
-    (tmp_path / 'arm.launch').write_text('<launch><arg name="rate" default="10.0"/></launch>')
-    assert defaults_declared_twice(str(tmp_path)) == [('top.launch', 'rate', 'arm.launch')]
+        '<launch><arg name="rate" default="5.0"/><include file="arm.launch"/></launch>')
+    (tmp_path / 'arm.launch').write_text(
+        '<launch><arg name="rate" default="10.0"/><arg name="port" default="/dev/x"/></launch>')
+    assert defaults_that_disagree(str(tmp_path)) == [
+        ('top.launch', 'rate', '5.0', 'arm.launch', '10.0')]
+    assert args_not_offered(str(tmp_path)) == [('top.launch', 'port', 'arm.launch')]
+
+
+@pytest.mark.parametrize('name', ['main_sim.launch', 'operator.launch', 'robot.launch',
+                                  'puppet.launch', 'arm.launch'])
+def test_ros_args_lists_every_argument_with_a_doc(name):
+    """What `roslaunch --ros-args robopuppet NAME` prints (roslaunch.arg_dump)."""
+    listed = roslaunch.arg_dump.get_args([os.path.join(LAUNCH_DIR, name)])
+    declared = user_args(ET.parse(os.path.join(LAUNCH_DIR, name)).getroot())
+    assert set(listed) == set(declared) and all(doc for doc, _ in listed.values())
+    if name == 'main_sim.launch':  # what an operator sets most, which it once hid
+        assert {'comm_rate', 'gui', 'rviz', 'zones_file', 'sim_link_prefix',
+                'episodes_dir', 'diagnostics'} <= set(listed)
+
+
+def test_puppet_launch_runs_without_arguments():
+    nodes, params = load(launch=os.path.join(LAUNCH_DIR, 'puppet.launch'))
+    assert {'config_L', 'serial_L', 'gui_L', 'arm_L', 'config_R', 'serial_R', 'arm_R'} <= set(nodes)
+    assert params['/serial_L/port_name'] != params['/serial_R/port_name']
+
+
+@pytest.mark.parametrize('launch', ['puppet.launch', 'operator.launch'])
+def test_a_puppet_alone_defaults_to_arm_launchs_port(launch):
+    arm_default = TABLE_5['port_name']
+    for side, other in (('L', 'R'), ('R', 'L')):
+        _, params = load('run_side_%s:=false' % other, 'gui:=false', 'rviz:=false',
+                         launch=os.path.join(LAUNCH_DIR, launch))
+        assert params['/serial_%s/port_name' % side] == arm_default, side
 
 
 def test_the_comm_rate_default_is_the_firmwares_rate_of_the_interface_table():
@@ -125,7 +180,8 @@ def test_comm_rate_reaches_the_serial_node_the_simulator_and_the_arm_controller(
 def test_sim_puppet_points_serial_at_the_simulator(side):
     nodes, params = load('arm_side:=' + side, 'sim_puppet:=true', 'comm_rate:=50.0')
     assert {'config_' + side, 'serial_' + side, 'puppet_sim_' + side} <= set(nodes)
-    link = interface.DEFAULT_SIM_LINK % side
+    link = '%s_arm_%s' % (interface.sim_link_prefix(os.environ['ROS_MASTER_URI'],
+                                                     rospkg.get_ros_home()), side)
     assert params['/serial_%s/port_name' % side] == link
     assert params['/puppet_sim_%s/port_link' % side] == link
     assert params['/puppet_sim_%s/state_rate' % side] == 50.0
@@ -154,7 +210,7 @@ def test_arm_controller_always_and_gui_on_request():
     ('arm.launch', ['arm_side:=R']), ('arm.launch', ['arm_side:=L', 'host:=operator']),
     ('main_sim.launch', []), ('operator.launch', ['run_side_L:=false'])])
 def test_the_config_node_respawns_soon_after_it_dies(launch, args):
-    """A config node killed mid-calibration comes back, so that Undo can run (issue 32)."""
+    """A config node killed mid-calibration comes back, so that Undo can run."""
     nodes, _ = load(*args, launch=os.path.join(LAUNCH_DIR, launch))
     configs = [node for name, node in nodes.items() if name.startswith('config_')]
     assert configs
@@ -173,7 +229,7 @@ def test_main_sim_runs_the_right_arm_on_simulated_hardware_by_default():
     nodes, params = load('rviz:=false', 'gui:=false',
                          launch=os.path.join(LAUNCH_DIR, 'main_sim.launch'))
     assert {'baxter_sim', 'robot_state_publisher', 'sim_cameras', 'config_R', 'serial_R',
-            'puppet_sim_R', 'arm_R', 'ghost', 'recorder'} == set(nodes)
+            'puppet_sim_R', 'arm_R', 'ghost', 'recorder', 'diagnostic_aggregator'} == set(nodes)
     assert params['/serial_R/port_name'] == params['/puppet_sim_R/port_link']
 
 
@@ -243,10 +299,11 @@ def test_the_operator_host_gives_each_side_its_own_port():
     ('operator.launch', ['sim_puppet:=true'],
      {'config_L', 'serial_L', 'puppet_sim_L', 'gui_L', 'recorder', 'rviz', 'ghost'}),
     ('robot.launch', [], {'arm_L', 'arm_R', 'baxter_sim', 'robot_state_publisher',
-                          'sim_cameras'}),
+                          'sim_cameras', 'diagnostic_aggregator'}),
     ('robot.launch', ['sim_cameras:=false'],
-     {'arm_L', 'arm_R', 'baxter_sim', 'robot_state_publisher'}),
-    ('robot.launch', ['sim_robot:=false', 'run_side_L:=false'], {'arm_R'}),
+     {'arm_L', 'arm_R', 'baxter_sim', 'robot_state_publisher', 'diagnostic_aggregator'}),
+    ('robot.launch', ['sim_robot:=false', 'run_side_L:=false', 'diagnostics:=false'],
+     {'arm_R'}),
 ])
 def test_each_host_runs_its_own_nodes_only(launch, args, runs):
     config = load_config(*args, launch=os.path.join(LAUNCH_DIR, launch))
@@ -270,3 +327,41 @@ def test_an_unknown_host_is_refused_by_name():
 def test_every_rostest_file_that_includes_a_launch_file_still_loads(path):
     nodes, _ = load(launch=path)
     assert any(n.startswith(('serial_', 'baxter_sim', 'recorder')) for n in nodes), nodes
+
+
+def test_the_simulated_puppets_link_is_unique_per_master_and_in_ros_home(monkeypatch, tmp_path):
+    links = set()
+    for uri in ('http://localhost:11311', 'http://localhost:11312', 'http://robot:11311/'):
+        monkeypatch.setenv('ROS_MASTER_URI', uri)
+        monkeypatch.setenv('ROS_HOME', str(tmp_path))
+        _, params = load('rviz:=false', 'gui:=false',
+                         launch=os.path.join(LAUNCH_DIR, 'main_sim.launch'))
+        link = params['/puppet_sim_R/port_link']
+        assert link == params['/serial_R/port_name'] == '%s_arm_R' % interface.sim_link_prefix(
+            uri, str(tmp_path))
+        assert link.startswith(str(tmp_path) + '/robopuppet/')
+        links.add(link)
+    assert len(links) == 3
+
+
+def test_the_aggregator_groups_every_status_the_nodes_publish():
+    """config/diagnostics.yaml: each RoboPuppet status name matches exactly one analyzer."""
+    import yaml
+    from robopuppet.cameras import camera_node
+    config = yaml.safe_load(open(os.path.join(LAUNCH_DIR, '..', 'config', 'diagnostics.yaml')))
+    analyzers = config['analyzers']['robopuppet']['analyzers'].values()
+    names = ['/serial_R: ' + interface.DIAG_LINK, 'arm_L: ' + interface.DIAG_TELEOP,
+             'arm_R: ' + interface.DIAG_NETWORK, '/camera_room: %s room' % camera_node.DIAG_CAMERA,
+             '/sim_cameras: simulated cameras']
+    for name in names:
+        assert sum(any(c in name for c in a['contains']) for a in analyzers) == 1, name
+    nodes, params = load(launch=os.path.join(LAUNCH_DIR, 'robot.launch'))
+    assert nodes['diagnostic_aggregator'].package == 'diagnostic_aggregator'
+    assert params['/diagnostic_aggregator/analyzers/robopuppet/path'] == 'RoboPuppet'
+
+
+def test_the_stand_ins_state_publisher_keeps_quiet_about_baxters_fixed_torso_joint():
+    nodes, _ = load(launch=os.path.join(LAUNCH_DIR, 'baxter_sim.launch'))
+    env = dict(nodes['robot_state_publisher'].env_args)
+    text = open(env['ROSCONSOLE_CONFIG_FILE']).read()
+    assert 'log4j.logger.ros.robot_state_publisher=ERROR' in text

@@ -1,11 +1,14 @@
 """Unit tests of robopuppet.puppet_sim.pty_port on real pseudo-terminals (no ROS): the link, raw
 bytes both ways, polling, writes that the pty does not take, and cleanup."""
 import os
+import signal
+import subprocess
+import sys
 import time
 
 import pytest
 
-from robopuppet.puppet_sim.pty_port import PtyPort
+from robopuppet.puppet_sim.pty_port import LOCK_SUFFIX, LinkBusy, PtyPort
 
 
 @pytest.fixture(name='port')
@@ -39,6 +42,68 @@ def test_open_points_the_link_at_the_pty_and_replaces_a_stale_one(tmp_path):
     finally:
         port.close()
     assert not os.path.lexists(str(link))
+    assert not os.path.lexists(str(link) + LOCK_SUFFIX)
+
+
+def test_open_makes_the_links_folder(tmp_path):
+    port = PtyPort(str(tmp_path / 'ros_home' / 'robopuppet' / 'pty_arm_R'))
+    try:
+        name = port.open()
+        assert os.readlink(port.link) == name
+    finally:
+        port.close()
+
+
+def test_a_second_port_neither_takes_nor_removes_a_live_ports_link(port):
+    port, host = port
+    name = os.readlink(port.link)
+    second = PtyPort(port.link)
+    with pytest.raises(LinkBusy, match='pid %d' % os.getpid()):
+        second.open()
+    second.close()
+    assert os.readlink(port.link) == name
+    os.write(host, b'still ours')
+    assert poll_until_data(port).data == b'still ours'
+
+
+HOLDER = """
+import sys, time
+from robopuppet.puppet_sim.pty_port import PtyPort
+PtyPort(sys.argv[1]).open()
+print('open', flush=True)
+time.sleep(60)
+"""
+
+
+@pytest.fixture(name='holder')
+def fixture_holder(tmp_path):
+    """Another process that owns tmp_path/arm_L; killed at the end."""
+    link = str(tmp_path / 'arm_L')
+    proc = subprocess.Popen([sys.executable, '-c', HOLDER, link], stdout=subprocess.PIPE,
+                            env=dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path)))
+    assert proc.stdout.readline() == b'open\n'
+    yield proc, link
+    proc.kill()
+    proc.wait()
+
+
+def test_another_process_keeps_its_link_until_it_ends_then_a_new_port_takes_it(holder):
+    proc, link = holder
+    theirs = os.readlink(link)
+    with pytest.raises(LinkBusy, match='pid %d' % proc.pid):
+        PtyPort(link).open()
+    assert os.readlink(link) == theirs and proc.poll() is None
+    proc.send_signal(signal.SIGKILL)  # a crash: its link stays behind, its lock goes
+    proc.wait()
+    port = PtyPort(link)
+    try:
+        name = port.open()  # the dead one's pty number may come back: compare the owner
+        assert os.readlink(link) == name
+        with open(link + LOCK_SUFFIX) as lock:
+            assert lock.read() == 'pid %d\n' % os.getpid()
+    finally:
+        port.close()
+    assert not os.path.lexists(link)
 
 
 def test_bytes_cross_unchanged_both_ways(port):

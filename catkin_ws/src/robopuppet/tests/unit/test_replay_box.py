@@ -195,3 +195,33 @@ def test_the_state_comes_from_the_commands_words(line, state):
 ])
 def test_exit_codes_are_shown_in_words(code, state, shown):
     assert rc.exit_text(code, state) == shown
+
+
+def test_plot_shows_the_png_in_the_gui_without_a_desktop_viewer(qtbot, episodes):
+    from PyQt5 import QtGui  # pylint: disable=import-outside-toplevel
+    image = QtGui.QImage(1600, 1200, QtGui.QImage.Format_RGB32)
+    image.fill(QtGui.QColor('white'))
+    painter = QtGui.QPainter(image)
+    painter.setPen(QtGui.QPen(QtGui.QColor('blue'), 6))
+    painter.drawLine(0, 1200, 1600, 0)
+    painter.end()
+    png = episodes / (NAMES[1] + '.png')
+    assert image.save(str(png))
+    box = replay_box.ReplayBox(EpisodesClient(episodes))     # the default: shown in the GUI
+    qtbot.addWidget(box)
+    box.rescan()
+    box.episodes.setCurrentIndex(1)
+    box.plot_button.click()
+    dialog = box.plot_dialog
+    assert dialog is not None and dialog.isVisible()
+    assert (dialog.pixmap.width(), dialog.pixmap.height()) == (1600, 1200)
+    assert dialog.image.pixmap().size() == dialog.pixmap.size()
+    assert NAMES[1] + '.png' in dialog.windowTitle()
+    assert dialog.width() <= 1200 and dialog.scroll.horizontalScrollBar().maximum() > 0
+    shots = os.environ.get('GUI_SHOTS')
+    if shots:
+        dialog.grab().save(os.path.join(shots, 'plot_dialog.png'))
+    (episodes / (NAMES[0] + '.png')).write_text('not a png')
+    box.episodes.setCurrentIndex(3)
+    box.plot_button.click()
+    assert box.state_label.text().startswith('no plot: cannot read the plot')

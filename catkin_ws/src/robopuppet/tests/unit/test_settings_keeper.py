@@ -171,7 +171,7 @@ def test_while_an_arm_follows_other_settings_and_unchanged_values_are_stored():
     assert answer.error.startswith('joint 4 home_angle and sign_angle change what')
 
 
-# A calibration: every joint's home_angle and sign_angle in one request (issue 32).
+# A calibration: every joint's home_angle and sign_angle in one request.
 CALIBRATION = [(joint, ['home_angle', 'sign_angle'], [0.1 * joint, -1.0])
                for joint in settings.JOINTS]
 

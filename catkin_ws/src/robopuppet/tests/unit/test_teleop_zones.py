@@ -140,6 +140,7 @@ def sweep_against_the_controller_model(seed, seconds, ratio=None):
     return least, travel
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize('seed', [41, 42])
 def test_baxter_s_measured_arms_stay_out_of_the_zones_while_following_fast(seed):
     least, travel = sweep_against_the_controller_model(seed, 6.0)
@@ -147,6 +148,7 @@ def test_baxter_s_measured_arms_stay_out_of_the_zones_while_following_fast(seed)
     assert travel > 3.0   # it did follow, through much of its range
 
 
+@pytest.mark.slow
 def test_the_commands_alone_kept_out_let_the_lagging_arm_in():
     """The same sweep with the guard checking only each command's own motion (the cut before
     the arm's measured pose counted, kept here as the counter-example): Baxter enters."""

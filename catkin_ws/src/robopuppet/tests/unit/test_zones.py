@@ -261,6 +261,7 @@ def _random_motions(side, rng, count, scale, near_m):
     return motions
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize('side, seed', [('left', 11), ('right', 12)])
 def test_no_returned_command_sweeps_the_arm_into_a_zone(side, seed):
     """5,000 motions per arm (10,000 in all): 4,500 of teleop size near zones, 500 large."""
@@ -293,6 +294,7 @@ def test_no_returned_command_sweeps_the_arm_into_a_zone(side, seed):
     assert cut > 150 and stuck < cut  # the zones were in the way, and cuts kept some motion
 
 
+@pytest.mark.slow
 def test_sliding_from_the_boundary_never_sweeps_the_arm_into_a_zone():
     """From each arm held by a cut (of 3,000 motions near a zone), slide toward a new target."""
     side, rng = 'left', np.random.default_rng(13)
@@ -433,6 +435,7 @@ def _box_samples(rng, lo, hi, count):
     return np.vstack([corners, rng.uniform(lo, hi, size=(count, 7))])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize('side, seed', [('left', 31), ('right', 32)])
 def test_a_returned_command_keeps_the_whole_box_of_the_lagging_arm_out_of_the_zones(side, seed):
     """1,000 commands per arm near zones, Baxter anywhere up to 0.1 rad per joint behind the

@@ -150,11 +150,11 @@ class ArmNode:
         for loop in self._loops:
             loop.stop()
         with self._lock:
-            why = ('the ROS master does not answer (roslaunch stops its nodes with it)'
-                   if not answers(rosgraph.get_master_uri()) else 'shut down')
-            detail = ('%s stopped: %s; Baxter holds where it is until %s runs again'
-                      % (self._name, why, self._name))
-            rospy.logwarn('%s', detail)
+            master_gone = not answers(rosgraph.get_master_uri())
+            detail = ('%s stopped: %s; Baxter holds where it is until %s runs again' % (
+                self._name, 'the ROS master does not answer (roslaunch stops its nodes with it)'
+                if master_gone else 'shut down', self._name))
+            (rospy.logwarn if master_gone else rospy.loginfo)('%s', detail)
             msg = TeleopState(state=ifc.FAULT, opmode=self._last_opmode, detail=detail)
             msg.header.stamp = rospy.Time.now()
             self._pub_state.publish(msg)

@@ -9,7 +9,7 @@ is in; but a hold that another node set (the GUI's Hold, a playback into the pup
 on this very press) holds where that node put the puppet: the first press only makes the hold
 arm_X's, with nothing sent, so that the puppet stays where it is; the next press goes on to feel.
 
-Feel (DESIGN.md section 8): the device holds with gentle gains (config_X's active settings) and
+Feel (docs/feel.md): the device holds with gentle gains (config_X's active settings) and
 arm_X streams the feel pose as setpoints, one set per new puppet joint-state sample (so at the
 state rate, not at the command rate): Baxter's measured pose of the arm this puppet drives,
 mapped back into puppet joint space (joint_motion.driven_arm and in_puppet_space: as is on

@@ -1,27 +1,37 @@
 """calibrate: the calibration procedure in a terminal, `rosrun robopuppet calibrate --side R`.
 
 Prompts for each pose of procedure.POSES (capture on Enter, 'r' takes the previous pose again,
-'q' quits), solves, shows old and new values with each joint's residual, and stores them all or
-none with one set_arm_config request after a 'y' (or at once with --yes; with --dry-run never).
+'p' poses the simulated puppet so, 'q' quits; the reported angles shown live), solves, shows
+old and new values with each joint's residual, and stores them all or none with one
+set_arm_config request after a 'y' (or at once with --yes; with --dry-run never).
 Lines may come from a pipe, for scripts (tests/integration/test_calibration_command.py), each
 Enter sent once the puppet is posed. While a pose is awaited it is published for RViz's
-calibration target ghost. Exit status: 0 stored (or dry run), 1 quit, Ctrl-C or no puppet, 2 a
-joint flagged, 3 the store failed (nothing stored).
+calibration target ghost. Exit status: 0 stored (or dry run), 1 quit, Ctrl-C, no master or no
+puppet, 2 a joint flagged, 3 the store failed (nothing stored). With no ROS master it says so
+within MASTER_TIMEOUT_S.
+
+`rosrun robopuppet sim_pose --side R "pose A"` (sim_pose_main) sets the simulated puppet's hand
+to a pose of procedure.POSES by name, or to seven typed angles (rad).
 """
 import argparse
+import socket
 import sys
 import threading
+import time
 
+import rosgraph
 import rospy
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32, String
 
 from robopuppet import interface, settings
-from robopuppet.calibration import procedure
+from robopuppet.calibration import procedure, prompt
 from robopuppet_msgs.msg import ArmSettings, JointChange
 from robopuppet_msgs.srv import SetArmConfig
 
 WAIT_S = 10.0
+MASTER_TIMEOUT_S = 3.0  # no answer from ROS_MASTER_URI within this: say so and exit 1
+SIM_DELIVERY_S = 5.0  # sim_pose waits this long for the simulated puppet to take the pose
 
 
 class ArmReader:
@@ -30,14 +40,15 @@ class ArmReader:
     Subscribes (under /puppet/arm_<side>): joint_J/enc_stat, joint_J/angle, stored_settings.
     Calls: set_arm_config (robopuppet_msgs/SetArmConfig).
     Publishes: calibration_target (sensor_msgs/JointState, procedure.TARGET_TOPIC) at
-        procedure.TARGET_RATE_HZ while show_target has a pose, nothing otherwise.
+        procedure.TARGET_RATE_HZ while show_target has a pose, nothing otherwise;
+        /puppet_sim/arm_<side>/hand (sensor_msgs/JointState, latched) on pose_sim only.
     """
 
     def __init__(self, side):
         self._lock = threading.Lock()
         self._readings = [(None, float('nan'))] * settings.NUM_JOINTS
         self._stored = None
-        self._side, self._target = side, None
+        self.side, self._target = side, None
         ns = interface.puppet_ns(side)
         self._target_pub = rospy.Publisher('%s/%s' % (ns, procedure.TARGET_TOPIC), JointState,
                                            queue_size=1)
@@ -52,6 +63,15 @@ class ArmReader:
                 rospy.Subscriber(interface.joint_topic(side, joint, 'angle'), Float32,
                                  self._on_reading, callback_args=(joint, 1), queue_size=10)]
         self._set = rospy.ServiceProxy('%s/%s' % (ns, interface.SET_ARM_CONFIG), SetArmConfig)
+        self._hand_pub = hand_publisher(side)
+
+    def sim_running(self):
+        """Return True when a simulated puppet listens to its hand topic."""
+        return self._hand_pub.get_num_connections() > 0
+
+    def pose_sim(self, angles_rad):
+        """Move the simulated puppet's hand to seven angles (rad)."""
+        publish_hand(self._hand_pub, angles_rad)
 
     def _on_stored(self, msg):
         stored = {j.joint: {n: getattr(j, n) for n in settings.NAMES} for j in msg.joints}
@@ -74,7 +94,7 @@ class ArmReader:
         with self._lock:
             pose = self._target
         if pose is not None:
-            names, positions = procedure.target_state(self._side, pose)
+            names, positions = procedure.target_state(self.side, pose)
             self._target_pub.publish(JointState(name=names, position=positions,
                                                 header=rospy.Header(stamp=rospy.Time.now())))
 
@@ -94,13 +114,37 @@ class ArmReader:
             raise RuntimeError(str(error)) from None
 
 
-def ask(prompt):
-    """Return a line typed by the operator (stripped), or 'q' at the end of the input."""
+def hand_publisher(side):
+    """Return a latched publisher of the simulated puppet's hand (interface.SIM_HAND)."""
+    return rospy.Publisher('%s/%s' % (interface.sim_ns(side), interface.SIM_HAND), JointState,
+                           queue_size=1, latch=True)
+
+
+def publish_hand(publisher, angles_rad):
+    """Publish seven hand angles (rad) as the GUI's virtual puppet panel does."""
+    msg = JointState(name=list(settings.JOINT_NAMES), position=[float(a) for a in angles_rad])
+    msg.header.stamp = rospy.Time.now()
+    publisher.publish(msg)
+
+
+def master_problem(timeout_s=MASTER_TIMEOUT_S):
+    """Return '' when the ROS master of ROS_MASTER_URI answers within timeout_s, else why not."""
+    uri = rosgraph.get_master_uri()
+    old = socket.getdefaulttimeout()
+    socket.setdefaulttimeout(timeout_s)
     try:
-        return input(prompt).strip().lower()
-    except EOFError:
-        print()
-        return 'q'
+        rosgraph.Master('/calibrate').getPid()
+    except (OSError, rosgraph.MasterException) as error:
+        return ('no ROS master at %s (%s): start roscore or the RoboPuppet launch file, or set '
+                'ROS_MASTER_URI' % (uri, error))
+    finally:
+        socket.setdefaulttimeout(old)
+    return ''
+
+
+def ask(text):
+    """Return a line typed by the operator (prompt.ask)."""
+    return prompt.ask(text)
 
 
 def run(reader, assume_yes, dry_run):
@@ -121,15 +165,25 @@ def run(reader, assume_yes, dry_run):
     while session.pose() is not None:
         pose = session.pose()
         reader.show_target(pose)
-        print('Pose %d of %d, %s (rad): %s' % (len(session.raws) + 1, len(session.poses),
-                                              pose.name, ' '.join('%+.2f' % a
-                                                                  for a in pose.angles_rad)))
-        answer = ask('Pose the puppet so, then press Enter to capture (r: previous pose again, '
-                     'q: quit): ')
+        print('Pose %d of %d, %s' % (len(session.raws) + 1, len(session.poses), pose.name))
+        print('  target (rad): %s' % procedure.readout([(None, a) for a in pose.angles_rad]))
+        sim = reader.sim_running()
+        answer = prompt.ask_live(
+            'Pose the puppet so, then press Enter to capture (r: previous pose again, %sq: quit): '
+            % ('p: pose the virtual puppet, ' if sim else ''),
+            lambda: '  now    (rad): %s' % procedure.readout(reader.readings()[0]))
         if answer == 'q':
             return 1
         if answer == 'r':
             session.retake()
+            continue
+        if answer == 'p':
+            if sim:
+                reader.pose_sim(pose.angles_rad)
+                print('the virtual puppet moves to %s: press Enter once it is there' % pose.name)
+            else:
+                print('no simulated puppet listens on %s/%s' % (interface.sim_ns(reader.side),
+                                                                 interface.SIM_HAND))
             continue
         try:
             session.capture(*reader.readings())
@@ -155,11 +209,17 @@ def run(reader, assume_yes, dry_run):
 
 def main(argv=None):
     """Parse the command line, start the node and run the procedure."""
-    parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    parser = argparse.ArgumentParser(description=__doc__.split('\n')[0],
+                                     epilog=prompt.KEYS_AND_EXIT_CODES,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument('--side', required=True, choices=interface.PUPPET_SIDES)
     parser.add_argument('--yes', action='store_true', help='store without asking')
     parser.add_argument('--dry-run', action='store_true', help='solve and show, store nothing')
     args = parser.parse_args(rospy.myargv(sys.argv if argv is None else argv)[1:])
+    problem = master_problem()
+    if problem:
+        print('calibrate: %s' % problem, file=sys.stderr)
+        sys.exit(1)
     rospy.init_node('calibrate_%s' % args.side, anonymous=True, disable_signals=True)
     try:
         status = run(ArmReader(args.side), args.yes, args.dry_run)
@@ -168,3 +228,39 @@ def main(argv=None):
         status = 1
     rospy.signal_shutdown('calibrate done')
     sys.exit(status)
+
+
+def sim_pose_main(argv=None):
+    """`sim_pose --side R POSE`: set the simulated puppet's hand to a named or typed pose."""
+    parser = argparse.ArgumentParser(
+        description='Set the simulated puppet\'s hand to a pose (the puppet moves there at up to '
+                    '3 rad/s; the hand then holds it).',
+        epilog='poses: %s, or seven angles in rad, e.g. 0 -0.5 0 0.5 0 0.5 0. Exit status 0 '
+               'delivered, 1 no ROS master or no simulated puppet listening, 2 not a pose.'
+               % ', '.join(repr(p.name) for p in procedure.POSES))
+    parser.add_argument('--side', required=True, choices=interface.PUPPET_SIDES)
+    parser.add_argument('pose', nargs='+', help='a pose name or seven angles (rad)')
+    args = parser.parse_args(rospy.myargv(sys.argv if argv is None else argv)[1:])
+    try:
+        pose = procedure.pose_from_words(args.pose)
+    except ValueError as error:
+        parser.error(str(error))
+    problem = master_problem()
+    if problem:
+        print('sim_pose: %s' % problem, file=sys.stderr)
+        sys.exit(1)
+    rospy.init_node('sim_pose_%s' % args.side, anonymous=True, disable_signals=True)
+    publisher = hand_publisher(args.side)
+    deadline = time.monotonic() + SIM_DELIVERY_S
+    while publisher.get_num_connections() == 0 and time.monotonic() < deadline:
+        time.sleep(0.05)
+    if publisher.get_num_connections() == 0:
+        print('sim_pose: no simulated puppet listens on %s/%s within %g s' % (
+            interface.sim_ns(args.side), interface.SIM_HAND, SIM_DELIVERY_S), file=sys.stderr)
+        rospy.signal_shutdown('no simulated puppet')
+        sys.exit(1)
+    publish_hand(publisher, pose.angles_rad)
+    time.sleep(0.5)  # a latched message goes out on the connection's own thread
+    print('hand of the simulated puppet %s: %s (rad) %s' % (
+        args.side, pose.name, procedure.readout([(None, a) for a in pose.angles_rad])))
+    rospy.signal_shutdown('sim_pose done')

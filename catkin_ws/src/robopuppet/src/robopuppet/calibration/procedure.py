@@ -51,6 +51,34 @@ class CaptureError(ValueError):
     """A pose cannot be captured now; str() tells the operator what to do."""
 
 
+def pose_from_words(words):
+    """Return the Pose named or typed in words (a list of strings), or raise ValueError.
+
+    A name of POSES, case and spaces ignored ("pose A", "posea", "a", "zero" for Baxter's zero
+    pose), or seven angles in rad.
+    """
+    text = ''.join(words).lower().replace("'", '')
+    for pose in POSES:
+        key = pose.name.lower().replace("'", '').replace(' ', '')
+        if text in (key, key.replace('pose', ''), 'zero' if pose is POSES[0] else key):
+            return pose
+    try:
+        angles = [float(w) for w in words]
+    except ValueError:
+        angles = None
+    if angles is None or len(angles) != settings.NUM_JOINTS:
+        raise ValueError('not a pose: %r (a name: %s, or %d angles in rad)' % (
+            ' '.join(words), ', '.join(repr(p.name) for p in POSES), settings.NUM_JOINTS))
+    if not all(math.isfinite(a) and abs(a) <= math.pi for a in angles):
+        raise ValueError('every angle must be a number within [-pi, pi] rad')
+    return Pose('typed pose', tuple(angles))
+
+
+def readout(readings):
+    """Return the reported angles of every joint as one line (rad; '  —  ' where none)."""
+    return ' '.join('%+.2f' % a if math.isfinite(a) else '  —  ' for _, a in readings)
+
+
 def joints_to_turn(readings):
     """Return the quadrature joints that are not Working (to turn through their index mark)."""
     return [j for j in QUAD_JOINTS if readings[j][0] != interface.WORKING]

@@ -2,7 +2,7 @@
 
 Pure: no file, clock or ROS. In feel mode the puppet holds (the device's hold) a pose streamed
 from Baxter's measured pose, with gentle gains so that the operator feels only where Baxter
-cannot follow (DESIGN section 8). config_X lays these over the stored joint settings while
+cannot follow (docs/feel.md). config_X lays these over the stored joint settings while
 <ns>/opmode is feel and publishes the result as active_settings; they are never stored in a
 joint's settings, so a crash in feel mode leaves the file right.
 """

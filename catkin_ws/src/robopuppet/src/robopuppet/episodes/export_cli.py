@@ -2,20 +2,28 @@
 
     rosrun robopuppet export EPISODE... [--format aloha-hdf5|csv|all]... [--rate HZ]
                                         [--out DIR] [--plot] [--cameras NAME,... | --no-images]
+                                        [--image-size WxH|full] [--compression lzf|gzip|none]
+                                        [--act-dir DIR] [--yes]
 
 An EPISODE is a name (looked up in $ROS_HOME/robopuppet/episodes/, ROS_HOME defaulting to
 ~/.ros) or the path of its .bag or .yaml. Each episode exports on its own: a bad one gets an
 error line and the others still export; the exit code is 1 if any failed. The HDF5 gets the
 images of every camera with frames in the bag, of the --cameras named (each must have frames),
-or none (--no-images).
+or none (--no-images), scaled to --image-size (default 320x240). Before writing it, export says
+its estimated size, and refuses one above 1 GB without --yes. --act-dir writes it as ACT's
+loader opens it (export_act).
 """
 import argparse
+import contextlib
 import os
+import shutil
 import signal
 import sys
 import time
 
-from robopuppet.episodes import export, export_files, export_images, export_run
+from robopuppet.episodes import (export, export_act, export_files, export_images, export_run,
+                                 export_size, export_writers)
+from robopuppet.interface import ROBOT_JOINT_STATES
 
 FORMATS = {'aloha-hdf5': '.hdf5', 'csv': '.csv'}
 OUTPUT_SUFFIXES = ('.hdf5', '.csv', '.png')
@@ -87,10 +95,9 @@ def _progress(name, say, started):
     return progress
 
 
-def export_episode(episode, formats, rate_hz, out_dir, plot, say, cameras=None):
-    """Export one episode; return the paths written. say(text) reports progress, and what
-    could not be read and was skipped. cameras: the cameras whose images the HDF5 gets (None:
-    all in the bag, []: none).
+def export_episode(episode, args, say):
+    """Export one episode as args (parse_args) say; return the paths written and what was
+    skipped. say(text) reports progress, and what could not be read and was skipped.
 
     Raises:
         export_files.EpisodeError, export.ExportError: the episode cannot be exported.
@@ -100,30 +107,86 @@ def export_episode(episode, formats, rate_hz, out_dir, plot, say, cameras=None):
     metadata = export_files.read_metadata(yaml_path)
     if not metadata:
         say('%s: no %s: taking sim as false' % (name, os.path.basename(yaml_path)))
-    out_dir = out_dir or os.path.dirname(os.path.abspath(bag_path))
+    out_dir = args.out or os.path.dirname(os.path.abspath(bag_path))
     say('%s: reading %s (%.1f MB)' % (name, bag_path, os.path.getsize(bag_path) / 1e6))
-    for suffix in OUTPUT_SUFFIXES:
-        remove_stale_parts(os.path.join(out_dir, name + suffix))
-    outputs = {kind: _Output(os.path.join(out_dir, name + suffix)) for kind, suffix in
-               (('aloha-hdf5', '.hdf5'), ('csv', '.csv'), ('plot', '.png'))
-               if kind in formats or (kind == 'plot' and plot)}
-    if 'aloha-hdf5' in formats:
-        cameras = _cameras(bag_path, name, metadata, cameras, say)
-    skipped = export_files.Skipped()
-    try:
-        export_run.write(bag_path, name, outputs, rate_hz, bool(metadata.get('sim')), cameras,
-                         skipped, lambda text: say('%s: %s' % (name, text)),
-                         _progress(name, say, time.monotonic()))
-        for output in outputs.values():
-            output.done()
-    finally:
-        for output in outputs.values():
-            output.discard()
+    act = args.act_dir if 'aloha-hdf5' in args.formats else None
+    with (export_act.locked(act, say) if act else contextlib.nullcontext()):
+        paths = {kind: os.path.join(out_dir, name + suffix) for kind, suffix in
+                 (('aloha-hdf5', '.hdf5'), ('csv', '.csv'), ('plot', '.png'))
+                 if kind in args.formats or (kind == 'plot' and args.plot)}
+        if act:
+            index, reused = export_act.choose_index(act, name)
+            paths['aloha-hdf5'] = os.path.join(act, export_act.file_name(index))
+            say('%s: ACT index %d%s' % (name, index, ' (exported there before: written again)'
+                                        if reused else ''))
+        for path in set(paths.values()) | {os.path.join(out_dir, name + suffix)
+                                           for suffix in OUTPUT_SUFFIXES}:
+            remove_stale_parts(path)  # also of the formats not written this time
+        outputs = {kind: _Output(path) for kind, path in paths.items()}
+        cameras = args.cameras
+        if 'aloha-hdf5' in outputs:
+            cameras = _cameras(bag_path, name, metadata, cameras, say)
+            _check_size(bag_path, name, cameras, args, os.path.dirname(paths['aloha-hdf5']),
+                        say)
+        skipped = export_files.Skipped()
+        try:
+            export_run.write(bag_path, name, outputs, args.rate, bool(metadata.get('sim')),
+                             cameras, skipped, lambda text: say('%s: %s' % (name, text)),
+                             _progress(name, say, time.monotonic()), args.image_size,
+                             export_writers.COMPRESSIONS[args.compression])
+            for output in outputs.values():
+                output.done()
+        finally:
+            for output in outputs.values():
+                output.discard()
+        if act:
+            export_act.record(act, index, name)
+            _check_act_dir(act, index, lambda text: say('%s: %s' % (name, text)))
     for line in skipped.lines():
         say('%s: %s' % (name, line))
     for output in outputs.values():
         say('%s: wrote %s' % (name, output.path))
     return [output.path for output in outputs.values()], skipped
+
+
+def _check_size(bag_path, name, cameras, args, out_dir, say):
+    """Say what the HDF5 will cost; refuse above export_size.LIMIT_BYTES without --yes.
+
+    Raises:
+        export.ExportError: too big without --yes.
+    """
+    span_s = export_files.span_s(bag_path, ROBOT_JOINT_STATES)
+    if span_s is None:
+        return  # export_run says so
+    chosen = export_files.frame_cameras(bag_path) if cameras is None else cameras
+    images = export_size.sample_images(export_files.read_frames(bag_path, None, chosen),
+                                       chosen, args.image_size) if chosen else {}
+    compression = export_writers.COMPRESSIONS[args.compression]
+    estimate = export_size.estimate(len(export.time_grid(0.0, span_s, args.rate)), images,
+                                    compression)
+    say('%s: %s' % (name, export_size.text(estimate, compression)))
+    why = export_size.too_big(estimate)
+    if why and not args.yes:
+        raise export.ExportError('the HDF5 would be about %s, %s' % (
+            export_size.megabytes(estimate.total_bytes), why))
+    free = shutil.disk_usage(out_dir).free
+    if estimate.total_bytes > free:
+        say('%s: warning: only %s free in %s' % (name, export_size.megabytes(free), out_dir))
+
+
+def _check_act_dir(directory, index, say):
+    """Say what would stop ACT's loader from reading the folder: missing indices (it opens
+    0 .. N-1), episodes of other lengths (it stacks every episode's rows)."""
+    missing = export_act.gaps(directory)
+    if missing:
+        say('warning: %s has no %s: ACT opens episode_0 .. episode_N-1' % (
+            directory, ', '.join(map(export_act.file_name, missing))))
+    counts = export_act.step_counts(directory)
+    others = sorted({n for i, n in counts.items() if i != index and n != counts.get(index)})
+    if others:
+        say('warning: episode_%d has %d steps, others in %s have %s: ACT\'s loader stacks '
+            'every episode\'s rows (its get_norm_stats), so they must be equally long' % (
+                index, counts.get(index, 0), directory, ', '.join(map(str, others))))
 
 
 def parse_args(argv):
@@ -150,14 +213,42 @@ def parse_args(argv):
                              'room_camera,right_hand_camera (default: every camera in the bag)')
     images.add_argument('--no-images', dest='cameras', action='store_const', const=[],
                         help='the HDF5 gets no images')
+    parser.add_argument('--image-size', metavar='WxH|full', type=_size,
+                        help='scale every image to W x H pixels, or keep them as recorded '
+                             '(full); default %dx%d' % export_size.DEFAULT_IMAGE_SIZE)
+    parser.add_argument('--compression', choices=sorted(export_writers.COMPRESSIONS),
+                        help='the images\' HDF5 filter (default %s)'
+                        % export_writers.IMAGE_COMPRESSION)
+    parser.add_argument('--act-dir', metavar='DIR',
+                        help='write the HDF5 as DIR/episode_<i>.hdf5, i after the highest there, '
+                             'as ACT\'s loader opens them; DIR/%s maps i to the episode'
+                             % export_act.INDEX_FILE)
+    parser.add_argument('--yes', action='store_true',
+                        help='write an HDF5 estimated above %s too'
+                        % export_size.megabytes(export_size.LIMIT_BYTES))
     args = parser.parse_args(argv)
     if not (args.rate > 0 and args.rate < float('inf')):
         parser.error('--rate must be a positive number of Hz')
-    chosen = set(args.formats or ([] if args.plot else ['aloha-hdf5']))
+    chosen = set(args.formats or ([] if args.plot and not args.act_dir else ['aloha-hdf5']))
     args.formats = set(FORMATS) if 'all' in chosen else chosen
-    if args.cameras is not None and 'aloha-hdf5' not in args.formats:
-        parser.error('--cameras and --no-images apply to --format aloha-hdf5')
+    hdf5_only = [option for option, value in (
+        ('--cameras and --no-images', args.cameras is not None),
+        ('--image-size', args.image_size is not None), ('--compression', args.compression),
+        ('--act-dir', args.act_dir)) if value]
+    if hdf5_only and 'aloha-hdf5' not in args.formats:
+        parser.error('%s apply to --format aloha-hdf5' % ', '.join(hdf5_only))
+    args.image_size = (export_size.DEFAULT_IMAGE_SIZE if args.image_size is None
+                       else args.image_size or None)  # 'full' parses as (): as recorded
+    args.compression = args.compression or export_writers.IMAGE_COMPRESSION
     return args
+
+
+def _size(text):
+    """Return an --image-size as (W, H), () for full (argparse type)."""
+    try:
+        return export_size.parse_size(text) or ()
+    except export_size.SizeError as error:
+        raise argparse.ArgumentTypeError(str(error)) from error
 
 
 def _names(text):
@@ -171,15 +262,15 @@ def _names(text):
 def main(argv=None):
     """Run the command; exit 0 when every episode exported, 1 otherwise."""
     args = parse_args(sys.argv[1:] if argv is None else argv)
-    if args.out:
-        os.makedirs(args.out, exist_ok=True)
+    for directory in (args.out, args.act_dir):
+        if directory:
+            os.makedirs(directory, exist_ok=True)
     signal.signal(signal.SIGTERM, _terminated)  # so that the .part files are removed
     failed, damaged = 0, 0
     for episode in args.episodes:
         try:
-            _, skipped = export_episode(episode, args.formats, args.rate, args.out, args.plot,
-                                        lambda text: print('export: ' + text, flush=True),
-                                        args.cameras)
+            _, skipped = export_episode(
+                episode, args, lambda text: print('export: ' + text, flush=True))
             damaged += bool(skipped.reasons)
         except (export_files.EpisodeError, export.ExportError, OSError) as error:
             failed += 1

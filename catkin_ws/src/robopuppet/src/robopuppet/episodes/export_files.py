@@ -227,8 +227,9 @@ def frame_counts(bag_path, cameras):
 def read_frames(bag_path, start, cameras=None, skipped=None):
     """Yield (camera, t, JPEG bytes) of the bag's camera frames (export_images.frame_topic) in
     time order, one at a time, t the record time in s since start (genpy.Time: the first
-    /robot/joint_states, the export grid's time 0). cameras: the cameras to read, None for all
-    in the bag; skipped: a Skipped that counts what cannot be read."""
+    /robot/joint_states, the export grid's time 0; None: the first frame's). cameras: the
+    cameras to read, None for all in the bag; skipped: a Skipped that counts what cannot be
+    read."""
     def wanted(topic, datatype):
         camera = export_images.camera_of(topic)
         return (datatype == 'sensor_msgs/CompressedImage' and camera is not None
@@ -236,4 +237,24 @@ def read_frames(bag_path, start, cameras=None, skipped=None):
     bag = open_bag(bag_path)
     with bag:
         for topic, msg, t in messages(bag, wanted=wanted, skipped=skipped, t0=start):
+            start = t if start is None else start
             yield export_images.camera_of(topic), (t - start).to_sec(), msg.data
+
+
+def frame_cameras(bag_path):
+    """Return the cameras with frames in the bag (export_images.frame_topic), sorted."""
+    bag = open_bag(bag_path)
+    with bag:
+        ids = _connections(bag, wanted=lambda topic, _: export_images.camera_of(topic))
+        return sorted({export_images.camera_of(bag._connections[i].topic)  # noqa: SLF001
+                       for c in bag._chunks for i in c.connection_counts  # noqa: SLF001
+                       if i in ids})
+
+
+def span_s(bag_path, topic):
+    """Return the time (s) from topic's first to its last message (from the bag's index); None
+    when the bag has none."""
+    bag = open_bag(bag_path)
+    with bag:
+        _, spans = index_times(bag, [topic])
+    return None if topic not in spans else (spans[topic][1] - spans[topic][0]).to_sec()

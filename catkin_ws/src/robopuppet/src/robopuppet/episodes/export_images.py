@@ -8,9 +8,12 @@ newest frame at or before its time; steps before a camera's first frame show tha
 A frame is decoded only if a step shows it, and once however many steps show it, so memory
 holds one decoded image and one JPEG per camera whatever the episode's length.
 
-A frame that does not decode, or whose size differs from the camera's first good frame, is
-skipped (the steps keep the frame before it) and counted in report(); a camera none of whose
-shown frames decodes raises ExportError.
+Images can be scaled to one size (W, H) for every camera (ACT stacks the cameras' images, so
+they must match): decoded frames are resized with OpenCV's INTER_AREA (pixel averaging).
+
+A frame that does not decode, or whose recorded size differs from the camera's first good
+frame, is skipped (the steps keep the frame before it) and counted in report(); a camera none
+of whose shown frames decodes raises ExportError.
 """
 import collections
 import re
@@ -50,12 +53,20 @@ def decode(data):
     return None if bgr is None else cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB)
 
 
+def scale(image, size):
+    """Return an image (H, W, 3) scaled to size (W, H) by pixel averaging (None: as it is)."""
+    if size is None or (image.shape[1], image.shape[0]) == tuple(size):
+        return image
+    return cv2.resize(image, tuple(size), interpolation=cv2.INTER_AREA)
+
+
 class _Camera:
     """One camera's hold: the newest good decoded image and the newest frame not decoded yet."""
 
     def __init__(self):
         self.next_step = 0  # the first grid step not handed out yet
         self.image = None
+        self.shape = None  # of its first good frame as recorded
         self.pending = None  # (t, bytes) of the newest frame
         self.first_t = None  # time of the first good frame (s)
         self.skipped = collections.OrderedDict()  # reason -> [count, time of the first]
@@ -70,10 +81,12 @@ class ImageResampler:
 
     Args:
         grid_s: the grid's times (T,), s, ascending, on the frames' clock.
+        size: (W, H) in pixels that every image is scaled to; None: as recorded.
     """
 
-    def __init__(self, grid_s):
+    def __init__(self, grid_s, size=None):
         self._grid = np.asarray(grid_s, float)
+        self._size = tuple(size) if size else None
         self._cameras = collections.OrderedDict()
 
     @property
@@ -127,14 +140,13 @@ class ImageResampler:
             image = decode(data)
             if image is None:
                 state.skip('frames that do not decode', t_s)
-            elif state.image is not None and image.shape != state.image.shape:
+            elif state.shape is not None and image.shape != state.shape:
                 state.skip('frames of %dx%d, not %dx%d' % (
-                    image.shape[1], image.shape[0], state.image.shape[1],
-                    state.image.shape[0]), t_s)
+                    image.shape[1], image.shape[0], state.shape[1], state.shape[0]), t_s)
             else:
                 if state.image is None:
-                    state.first_t = t_s
-                state.image = image
+                    state.first_t, state.shape = t_s, image.shape
+                state.image = scale(image, self._size)
         if state.image is None:
             return []
         run = Run(camera, state.next_step, stop, state.image)

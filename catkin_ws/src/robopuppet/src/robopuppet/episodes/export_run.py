@@ -8,13 +8,16 @@ import time
 
 import numpy as np
 
-from robopuppet.episodes import export, export_files, export_stream, export_writers
+from robopuppet.episodes import export, export_files, export_plot, export_stream, export_writers
 from robopuppet.interface import ROBOT_JOINT_STATES
 
 
-def write(bag_path, name, outputs, rate_hz, sim, cameras, skipped, say, progress):
+def write(bag_path, name, outputs, rate_hz, sim, cameras, skipped, say, progress, size=None,
+          compression=export_writers.IMAGE_COMPRESSION):
     """Write an episode's outputs ({'aloha-hdf5' | 'csv' | 'plot': an object with .partial,
-    the path to write}); skipped (export_files.Skipped) counts what cannot be read.
+    the path to write}); skipped (export_files.Skipped) counts what cannot be read. The HDF5's
+    images are scaled to size (W, H; None: as recorded) and stored with the HDF5 filter
+    compression.
 
     Raises:
         export_files.EpisodeError, export.ExportError: the episode cannot be exported.
@@ -44,20 +47,21 @@ def write(bag_path, name, outputs, rate_hz, sim, cameras, skipped, say, progress
                 frames = (export_files.read_frames(bag_path, start, cameras, skipped)
                           if cameras != [] else ())
                 grid_s = export.time_grid(start_s, end_s, rate_hz)
-                for note in writers.hdf5.write_images(grid_s - grid_s[0], frames, progress):
+                for note in writers.hdf5.write_images(grid_s - grid_s[0], frames, progress,
+                                                      compression, size):
                     say(note)
         finally:
             writers.close()
     if 'plot' in outputs:
         rows = {key: np.concatenate([b[key] for b in writers.plot_blocks])
                 for key in ('time', 'qpos', 'commanded')}
-        series = export_writers.plot_rows(
+        series = export_plot.plot_rows(
             rows, *[{s: np.concatenate([b[key][s] for b in writers.plot_blocks])
                      for s in export.PUPPET_SIDES} for key in ('puppet', 'end_piece')],
             stream.commanded_sides, stream.puppet_sides, stream.follow)
         title = '%s%s: puppet, commanded and measured Baxter angles' % (
             name, ' (sim)' if sim else '')
-        export_writers.write_plot(outputs['plot'].partial, series, rows['time'], title)
+        export_plot.write_plot(outputs['plot'].partial, series, rows['time'], title)
 
 
 class _Writers:

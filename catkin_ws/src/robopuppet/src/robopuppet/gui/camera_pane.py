@@ -1,4 +1,4 @@
-"""The Cameras tab: one camera's images, their frames/s and age, green/amber/red by health.
+"""The camera pane, beside the main tab: one camera's images, frames/s and age, coloured by health.
 
 The pane subscribes only while it is visible (CameraClient); the ROS thread decodes, and
 refresh() (the window's frame timer, GUI thread) draws the newest frame when there is a new one.
@@ -9,7 +9,7 @@ import cv2
 from PyQt5 import QtCore, QtGui, QtWidgets
 
 from robopuppet.gui import camera_view
-from robopuppet.gui.main_tab import AMBER, GREEN, RED, paint
+from robopuppet.gui.look import AMBER, GREEN, RED, paint
 
 LEVEL_COLOUR = {camera_view.OK: GREEN, camera_view.WARN: AMBER, camera_view.ERROR: RED}
 # A stale image gets a frame and a banner in a strong colour: the nurse looks at the image.
@@ -131,6 +131,8 @@ class CameraPane(QtWidgets.QWidget):
         super().__init__(parent)
         self.client = client
         self.camera = None  # the chosen camera's name
+        self.preferred = None  # the camera shown until the operator chooses one (prefer())
+        self.chosen_by_operator = False
         self._listed = None
         self._listed_s = None
         self._shown_seq = None
@@ -151,10 +153,14 @@ class CameraPane(QtWidgets.QWidget):
         layout.addLayout(top)
         layout.addWidget(self.view, 1)
 
-    def choose(self, camera):
-        """Show `camera` (a name) from now on; subscribe to it if the pane is visible."""
+    def choose(self, camera, by_operator=True):
+        """Show `camera` (a name) from now on; subscribe to it if the pane is visible.
+
+        A camera the operator chose (by_operator) stays: prefer() no longer changes it.
+        """
         if camera is None:
             return
+        self.chosen_by_operator = self.chosen_by_operator or by_operator
         if camera != self.camera:
             self.camera, self._shown_seq = camera, None
             self.view.set_image(None)
@@ -163,6 +169,13 @@ class CameraPane(QtWidgets.QWidget):
             self._fill_chooser()
         if self.isVisible() and not self.client.subscribed():
             self.client.subscribe(camera)
+
+    def prefer(self, camera):
+        """Show `camera` (the arm's own) when it publishes, unless the operator chose one."""
+        self.preferred = camera
+        if (not self.chosen_by_operator and camera != self.camera
+                and (camera, True) in (self._listed or [])):
+            self.choose(camera, by_operator=False)
 
     def showEvent(self, event):
         super().showEvent(event)
@@ -221,8 +234,10 @@ class CameraPane(QtWidgets.QWidget):
             return
         self._listed = cameras
         live = [name for name, published in cameras if published]
-        if self.camera is None and live:  # until the operator chooses: the first publishing
-            self.choose(live[0])
+        if self.camera is None and live:  # until the operator chooses: preferred or first live
+            self.choose(self.preferred if self.preferred in live else live[0], False)
+        elif self.preferred in live:
+            self.prefer(self.preferred)
         self._fill_chooser()
 
     def _fill_chooser(self):

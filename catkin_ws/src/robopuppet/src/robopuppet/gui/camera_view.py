@@ -124,6 +124,12 @@ def judge(now_s, frame, subscribed_s):
     return Verdict(OK, 'live')
 
 
+def own_camera(baxter_arm):
+    """Return the hand camera of Baxter's arm 'left' or 'right': the camera an operator
+    driving that arm looks through first."""
+    return '%s_hand_camera' % baxter_arm
+
+
 def camera_list(published_topics, known=()):
     """Return [(camera name, published)] for the chooser: the cameras whose image/compressed
     topic the master knows (published, sorted), then the known names not published yet.

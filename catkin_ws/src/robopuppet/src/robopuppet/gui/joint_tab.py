@@ -7,12 +7,15 @@ from robopuppet import settings
 from robopuppet.gui import settings_form
 from robopuppet.gui.config_task import ConfigTask
 from robopuppet.gui.live_plot import LivePlot
-from robopuppet.gui.main_tab import number
+from robopuppet.gui.look import number
 
 NOW_LABEL_WIDTH = 420  # pixels
 CALL_TIMEOUT_S = 2.0  # a get_config or set_config call (1 s to find the service, then the call)
 OK_STYLE = 'QLabel { color: #1b5e20; }'
 ERROR_STYLE = 'QLabel { color: #b71c1c; font-weight: bold; }'
+FIELD_ERROR_STYLE = 'QLineEdit { border: 2px solid #c62828; background: #ffebee; }'
+FIELD_PROBLEM_STYLE = 'QLabel { color: #b71c1c; }'
+FIELD_COLUMN_WIDTH = 260  # pixels: a field's problem wraps under it within this width
 
 
 class JointTab(QtWidgets.QWidget):
@@ -37,14 +40,28 @@ class JointTab(QtWidgets.QWidget):
         self.voltage_plot = LivePlot('joint %d motor voltage' % joint, 'V',
                                      [('voltage', '#c62828', False)], window_s)
         self.fields = {}
+        self.field_problems = {}  # setting name: the label under its field naming its problems
+        self._tips = {}
         form = QtWidgets.QFormLayout()
         for setting in settings.SETTINGS:
             field = QtWidgets.QLineEdit()
-            field.setToolTip('%s (default %s)' % (setting.meaning,
-                                                 settings_form.field_text(setting.default)))
+            self._tips[setting.name] = '%s (default %s)' % (
+                setting.meaning, settings_form.field_text(setting.default))
+            field.setToolTip(self._tips[setting.name])
             field.setMaximumWidth(120)
+            field.textEdited.connect(lambda _, name=setting.name: self._mark_field(name, []))
+            problem = QtWidgets.QLabel()
+            problem.setWordWrap(True)
+            problem.setStyleSheet(FIELD_PROBLEM_STYLE)
+            problem.setFixedWidth(FIELD_COLUMN_WIDTH)
+            problem.hide()
+            column = QtWidgets.QVBoxLayout()
+            column.setSpacing(1)
+            column.addWidget(field)
+            column.addWidget(problem)
             self.fields[setting.name] = field
-            form.addRow('%s (%s)' % (setting.name, setting.unit), field)
+            self.field_problems[setting.name] = problem
+            form.addRow('%s (%s)' % (setting.name, setting.unit), column)
         self.get_button = QtWidgets.QPushButton('Get')
         self.get_button.setToolTip('read the stored settings from config_%s' % client.side)
         self.set_button = QtWidgets.QPushButton('Set')
@@ -59,6 +76,8 @@ class JointTab(QtWidgets.QWidget):
         self.message = QtWidgets.QLabel()
         self.message.setWordWrap(True)
         self.message.setMinimumWidth(240)
+        self.message.setSizePolicy(QtWidgets.QSizePolicy.Preferred,
+                                   QtWidgets.QSizePolicy.MinimumExpanding)
         form.addRow(self.message)
         self.setpoint_field = QtWidgets.QLineEdit()
         self.setpoint_field.setMaximumWidth(120)
@@ -132,6 +151,7 @@ class JointTab(QtWidgets.QWidget):
         since keeps what the operator typed: an unsaved edit is never overwritten.
         """
         self._filled = dict(stored)
+        self._mark_fields({})
         for name, value in stored.items():
             if texts is None or self.fields[name].text() == texts[name]:
                 self.fields[name].setText(settings_form.field_text(value))
@@ -151,8 +171,13 @@ class JointTab(QtWidgets.QWidget):
         try:
             wanted = settings_form.parse_form(self.joint, texts)
         except settings_form.EntryError as error:
-            self._say('refused, nothing sent:\n%s' % error, error=True)
+            self._mark_fields(error.by_field())
+            count = len(error.problems)
+            self._say('refused, nothing sent: %s, marked red at %s:\n%s' % (
+                '1 problem' if count == 1 else '%d problems' % count,
+                'its field' if count == 1 else 'their fields', error), error=True)
             return
+        self._mark_fields({})
         if self._filled is None:
             self._say('read the stored settings first (Get); nothing sent', error=True)
             return
@@ -203,6 +228,19 @@ class JointTab(QtWidgets.QWidget):
     def _enable_buttons(self):
         for button in (self.get_button, self.set_button):
             button.setEnabled(not self.busy())
+
+    def _mark_fields(self, problems):
+        """Mark each field of {name: [problem texts]} red with its problems; clear the others."""
+        for name in self.fields:
+            self._mark_field(name, problems.get(name, []))
+
+    def _mark_field(self, name, problems):
+        """Mark one field red with its problems under it and in its tooltip, or clear it."""
+        field, label = self.fields[name], self.field_problems[name]
+        field.setStyleSheet(FIELD_ERROR_STYLE if problems else '')
+        field.setToolTip('\n'.join(problems + [self._tips[name]]))
+        label.setText('\n'.join(problems))
+        label.setVisible(bool(problems))
 
     def _say(self, text, error=False):
         self.message.setText(text)

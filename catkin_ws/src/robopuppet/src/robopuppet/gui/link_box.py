@@ -1,11 +1,10 @@
 """The "Link to the robot room" box of the main tab: what link_view.describe decides, coloured."""
 from PyQt5 import QtWidgets
 
-from robopuppet.gui import link_view
+from robopuppet.gui import freshness, link_view
+from robopuppet.gui.look import AMBER, GREEN, RED
 
-# main_tab's GREEN, AMBER and RED (main_tab imports this module, so they are repeated here;
-# test_gui_link checks that they agree).
-LEVEL_COLOUR = {link_view.OK: '#c8e6c9', link_view.WARN: '#ffe0b2', link_view.ERROR: '#ffcdd2'}
+LEVEL_COLOUR = {link_view.OK: GREEN, link_view.WARN: AMBER, link_view.ERROR: RED}
 STATUS_STYLE = 'QLabel { background: %s; padding: 3px; border-radius: 3px; }'
 STATUS_LINES = 3  # room kept for the status (link_view.STATUS_MAX_CHARS): the tab does not jump
 
@@ -13,7 +12,8 @@ STATUS_LINES = 3  # room kept for the status (link_view.STATUS_MAX_CHARS): the t
 class LinkBox(QtWidgets.QGroupBox):
     """A coloured status line, then round trip, delay to Baxter, pings lost and where the fault is.
 
-    A status cut short shows all of it as its tooltip. refresh(snap, now_s) once per frame on
+    A status cut short shows all of it as its tooltip. The last line says how old the newest
+    link_state is; once it is not current, the figures are greyed (they show '—'). refresh(snap, now_s) once per frame on
     the GUI thread; nothing here talks to ROS.
     """
 
@@ -29,9 +29,12 @@ class LinkBox(QtWidgets.QGroupBox):
         self.loss_label = QtWidgets.QLabel()
         self.where_label = QtWidgets.QLabel()
         self.where_label.setWordWrap(True)
+        self.age_label = QtWidgets.QLabel()
+        for label in (self.rtt_label, self.loss_label, self.age_label):
+            label.setWordWrap(True)
         layout = QtWidgets.QVBoxLayout(self)
         for label in (self.status_label, self.rtt_label, self.delay_label, self.loss_label,
-                      self.where_label):
+                      self.where_label, self.age_label):
             layout.addWidget(label)
         layout.addStretch(1)
         self.view = None
@@ -39,6 +42,14 @@ class LinkBox(QtWidgets.QGroupBox):
     def refresh(self, snap, now_s):
         """Show the link as of a state.Snapshot taken at now_s (s)."""
         view = link_view.describe(snap, now_s)
+        received_s = None if snap.robot_link is None else snap.robot_link.received_s
+        stale = freshness.is_stale(received_s, now_s, freshness.LINK_STALE_S)
+        self.age_label.setText(freshness.age_text(received_s, now_s, freshness.LINK_STALE_S,
+                                                  'link_state'))
+        style = 'QLabel { color: %s; }' % freshness.STALE_TEXT_COLOUR
+        for label in (self.rtt_label, self.delay_label, self.loss_label, self.age_label):
+            if label.styleSheet() != (style if stale or label is self.age_label else ''):
+                label.setStyleSheet(style if stale or label is self.age_label else '')
         if view == self.view:
             return  # unchanged: no relayout at 30 frames/s
         self.view = view

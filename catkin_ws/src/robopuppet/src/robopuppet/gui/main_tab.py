@@ -1,17 +1,18 @@
-"""The main tab: heartbeat, opmode, joint and gripper table, buttons, teleop state, the link to
-the robot room, serial link, recording."""
+"""The main tab: the puppet (heartbeat, opmode, buttons, serial link), the teleop state, the link
+to the robot room, the joint and gripper tables and, beside them, the camera; below, recording."""
 import math
 
 from PyQt5 import QtCore, QtGui, QtWidgets
 
 from robopuppet import interface, settings
-from robopuppet.gui import link_view, state, tracking
+from robopuppet.gui import camera_view, freshness, link_view, state, tracking
 from robopuppet.gui.link_box import LinkBox
+from robopuppet.gui.look import (AMBER, BLUE, GREEN, GREY, RED, grey_out, number, paint, restyle,
+                                 show_age)
 from robopuppet.gui.recording_box import RecordingBox
 
 LINK_STALE_S = link_view.SERIAL_STALE_S  # diagnostics older than this are shown as not updating
 
-GREEN, AMBER, RED, GREY, BLUE = '#c8e6c9', '#ffe0b2', '#ffcdd2', '#e0e0e0', '#bbdefb'
 STATUS_COLOUR = dict(zip(interface.ENC_STATUS, (GREEN, RED, AMBER)))
 LINK_LEVEL = {0: ('OK', GREEN), 1: ('WARN', AMBER), 2: ('ERROR', RED), 3: ('STALE', GREY)}
 TELEOP_COLOUR = {interface.CALIBRATING: AMBER, interface.READY: BLUE, interface.FOLLOWING: GREEN,
@@ -21,21 +22,12 @@ ERROR_COLOUR = {tracking.SMALL: GREEN, tracking.MEDIUM: AMBER, tracking.LARGE: R
 LINE_COLOUR = {tracking.ZONE: AMBER, tracking.LAGS: RED, tracking.TRACKS: GREEN,
                tracking.IDLE: GREY}
 BAXTER_COLUMN, ERROR_COLUMN = 3, 4
-
-
-def number(value, digits=3):
-    """Return value with fixed digits, or '—' when it is unknown (NaN)."""
-    return '—' if value is None or math.isnan(value) else '%+.*f' % (digits, value)
+CAMERA_SHARE = 0.35  # of the width at first, for the camera; the splitter moves it
 
 
 def baxter_header(arm, mirrored):
     """Return the Baxter column's header: two lines, so that it fits the column."""
     return 'Baxter (rad)\n%s' % ('%s, mirrored' % arm if mirrored else '%s arm' % arm)
-
-
-def paint(widget, colour):
-    """Give a label a coloured background."""
-    widget.setStyleSheet('QLabel { background: %s; padding: 3px; border-radius: 3px; }' % colour)
 
 
 class MainTab(QtWidgets.QWidget):
@@ -44,11 +36,19 @@ class MainTab(QtWidgets.QWidget):
     The joint table shows, beside the puppet's angles, Baxter's measured angles of the arm this
     puppet drives mapped into puppet space and the error puppet - Baxter (gui.tracking); the
     line under it names the keep-out zone holding Baxter back, or says Baxter lags.
+
+    What comes from the robot room (the arm controller's state, Baxter's pose, the link) shows
+    its age; once no longer current (gui.freshness) it is greyed and says NOT CURRENT.
+
+    With a camera_pane (CameraPane), the camera shows to the right of the status (a splitter):
+    the hand camera of the Baxter arm the puppet drives until the operator chooses another.
+    The pane subscribes only while the tab is visible.
     """
 
-    def __init__(self, client, parent=None):
+    def __init__(self, client, camera_pane=None, parent=None):
         super().__init__(parent)
         self._client = client
+        self.camera_pane = camera_pane
         self.heartbeat_label = QtWidgets.QLabel()
         self.link_label = QtWidgets.QLabel()
         self.link_label.setWordWrap(True)
@@ -56,6 +56,8 @@ class MainTab(QtWidgets.QWidget):
         self.follow_label = QtWidgets.QLabel()
         self.detail_label = QtWidgets.QLabel()
         self.detail_label.setWordWrap(True)
+        self.teleop_age_label = QtWidgets.QLabel()
+        # wrapped, so that the status column can make room for the camera
         self.button_label = QtWidgets.QLabel()
         self.limp_radio = QtWidgets.QRadioButton(interface.LIMP)
         self.hold_radio = QtWidgets.QRadioButton(interface.HOLD)
@@ -71,31 +73,71 @@ class MainTab(QtWidgets.QWidget):
                                        ['joint %d' % j for j in settings.JOINTS])
         self.tracking_label = QtWidgets.QLabel()
         self.tracking_label.setWordWrap(True)
+        self.baxter_age_label = QtWidgets.QLabel()
+        # wrapped, so that the status column can make room for the camera
+        for label in (self.heartbeat_label, self.button_label, self.teleop_label,
+                      self.follow_label, self.teleop_age_label, self.baxter_age_label):
+            label.setWordWrap(True)
         self._lag = {side: tracking.LagWatch() for side in interface.BAXTER_SIDES}
         self.gripper_table = self._table(['reading (0-1)'], GRIPPER_NAMES)
         end_piece_note = QtWidgets.QLabel('end piece button: ~1 released, ~0 pressed')
+        end_piece_note.setWordWrap(True)
 
         top = QtWidgets.QHBoxLayout()
-        top.addWidget(self._group('Puppet', self.heartbeat_label, self.button_label))
         opmode = QtWidgets.QHBoxLayout()
         for radio, _ in self.opmode_radios:
             opmode.addWidget(radio)
-        top.addWidget(self._group('Opmode', opmode))
+        opmode.addStretch(1)   # a radio takes clicks on its mark and text only: keep it narrow
+        # The puppet's own state in one box, its serial link (/diagnostics) last: the status
+        # column stays short enough for the whole joint table beside the camera.
+        puppet = self._group('Puppet', self.heartbeat_label, opmode, self.button_label,
+                             self.link_label)
+        puppet.layout().addStretch(1)
+        top.addWidget(puppet, 2)
         top.addWidget(self._group('Teleoperation', self.teleop_label, self.follow_label,
-                                  self.detail_label), 2)
+                                  self.detail_label, self.teleop_age_label), 2)
         self.link_box = LinkBox()
         top.addWidget(self.link_box, 2)
         tables = QtWidgets.QHBoxLayout()
-        tables.addWidget(self._group('Joints', self.joint_table, self.tracking_label), 3)
-        tables.addWidget(self._group('Grippers', self.gripper_table, end_piece_note), 2,
-                         QtCore.Qt.AlignTop)
+        tables.addWidget(self._group('Joints', self.joint_table, self.tracking_label,
+                                     self.baxter_age_label), 3)
+        grippers = self._group('Grippers', self.gripper_table, end_piece_note)
+        if camera_pane is None:
+            tables.addWidget(grippers, 2, QtCore.Qt.AlignTop)
         layout = QtWidgets.QVBoxLayout(self)
-        layout.addLayout(top)
-        layout.addLayout(tables)
-        layout.addWidget(self._group('Serial link (/diagnostics)', self.link_label))
+        status = QtWidgets.QVBoxLayout()
+        status.addLayout(top)
+        status.addLayout(tables)
+        if camera_pane is None:
+            layout.addLayout(status)
+        else:  # the camera to the right, the grippers under it: the status column stays narrow
+            self.splitter = QtWidgets.QSplitter()
+            for items in (((status, 0),), ((camera_pane, 1), (grippers, 0))):
+                self.splitter.addWidget(QtWidgets.QWidget())
+                column = QtWidgets.QVBoxLayout(self.splitter.widget(self.splitter.count() - 1))
+                column.setContentsMargins(0, 0, 0, 0)
+                for item, stretch in items:   # the camera takes the height left over
+                    (column.addLayout if isinstance(item, QtWidgets.QLayout)
+                     else column.addWidget)(item, stretch)
+            status.addStretch(1)
+            self.splitter.setChildrenCollapsible(False)
+            self.splitter.setStretchFactor(0, 1)
+            self.splitter.setStretchFactor(1, 1)
+            camera_pane.prefer(camera_view.own_camera(interface.BAXTER_SIDE[client.side]))
+            layout.addWidget(self.splitter, 1)
         self.recording_box = RecordingBox(client)
         layout.addWidget(self.recording_box)
-        layout.addStretch(1)
+        if camera_pane is None:
+            layout.addStretch(1)
+
+    def showEvent(self, event):
+        """Give the camera CAMERA_SHARE of the width when first shown (laid out by then)."""
+        super().showEvent(event)
+        if self.camera_pane is not None and not getattr(self, '_split', False):
+            self._split = True
+            QtCore.QTimer.singleShot(0, lambda: self.splitter.setSizes(
+                [int(self.splitter.width() * (1 - CAMERA_SHARE)),
+                 int(self.splitter.width() * CAMERA_SHARE)]))
 
     @staticmethod
     def _table(columns, rows):
@@ -152,20 +194,33 @@ class MainTab(QtWidgets.QWidget):
         self._show_tracking(snap, now_s)
         for row, reading in enumerate(snap.grippers):
             self.gripper_table.item(row, 0).setText(number(reading))
-        self._show_teleop(snap.teleop)
+        self._show_teleop(snap.teleop, now_s)
         self._show_link(snap.link, now_s)
         self.link_box.refresh(snap, now_s)
         self.recording_box.refresh()
+        if self.camera_pane is not None:
+            teleop = snap.teleop
+            follows = (teleop.follow_left, teleop.follow_right) if teleop else (False, False)
+            self.camera_pane.prefer(camera_view.own_camera(
+                tracking.driven_arm(self._client.side, *follows)))
+            self.camera_pane.refresh(snap, now_s)
 
-    def _show_teleop(self, teleop):
+    def _show_teleop(self, teleop, now_s):
+        received_s = None if teleop is None else teleop.received_s
+        what = 'arm_%s' % self._client.side
+        stale = show_age(self.teleop_age_label, received_s, now_s, freshness.TELEOP_STALE_S,
+                         what)
+        for label in (self.follow_label, self.detail_label):
+            grey_out(label, stale)
         if teleop is None:
             self.teleop_label.setText('no arm controller')
             paint(self.teleop_label, GREY)
             self.follow_label.setText('')
             self.detail_label.setText('')
             return
-        self.teleop_label.setText('state: %s   (opmode %s)' % (teleop.state, teleop.opmode))
-        paint(self.teleop_label, TELEOP_COLOUR.get(teleop.state, GREY))
+        self.teleop_label.setText('state: %s   (opmode %s)%s' % (
+            teleop.state, teleop.opmode, '   NOT CURRENT' if stale else ''))
+        paint(self.teleop_label, GREY if stale else TELEOP_COLOUR.get(teleop.state, GREY))
         following = [arm for arm, on in zip(interface.BAXTER_SIDES,
                                             (teleop.follow_left, teleop.follow_right)) if on]
         self.follow_label.setText('Baxter arms following: %s' % (' + '.join(following) or 'none'))
@@ -175,35 +230,50 @@ class MainTab(QtWidgets.QWidget):
         """Fill the Baxter and error columns and the zone or lag line."""
         side, teleop = self._client.side, snap.teleop
         follows = (teleop.follow_left, teleop.follow_right) if teleop else (False, False)
-        poses = {}
-        if snap.baxter is not None and now_s - snap.baxter.received_s <= tracking.BAXTER_STALE_S:
-            poses = snap.baxter.poses
+        teleop_stale = teleop is not None and freshness.is_stale(
+            teleop.received_s, now_s, freshness.TELEOP_STALE_S)
+        received_s = None if snap.baxter is None else snap.baxter.received_s
+        baxter_stale = show_age(self.baxter_age_label, received_s, now_s,
+                                freshness.BAXTER_STALE_S, "Baxter's pose")
+        poses = {} if baxter_stale else snap.baxter.poses
         puppet = [joint.angle_rad for joint in snap.joints]
         arm = tracking.driven_arm(side, *follows)
         track = tracking.tracking(side, arm, poses, puppet)
+        # An old pose is shown greyed, without errors: an error against it would mislead.
+        old = tracking.tracking(side, arm, snap.baxter.poses, puppet) if (
+            baxter_stale and snap.baxter is not None) else None
         # Colour judges the error where it matters: an arm that follows, or feel mode (the
         # puppet pulls toward the shown arm); an arm that does not follow is elsewhere by design.
-        judged = follows[interface.BAXTER_SIDES.index(arm)] or snap.opmode == interface.FEEL
+        judged = not teleop_stale and (follows[interface.BAXTER_SIDES.index(arm)]
+                                       or snap.opmode == interface.FEEL)
         header = baxter_header(arm, arm != interface.BAXTER_SIDE[side])
         if self.joint_table.horizontalHeaderItem(BAXTER_COLUMN).text() != header:
             self.joint_table.horizontalHeaderItem(BAXTER_COLUMN).setText(header)
         for row in range(settings.NUM_JOINTS):
-            baxter = math.nan if track is None else track.baxter_rad[row]
+            shown = track or old
+            baxter = math.nan if shown is None else shown.baxter_rad[row]
             error = math.nan if track is None else track.error_rad[row]
-            self.joint_table.item(row, BAXTER_COLUMN).setText(number(baxter))
-            cell = self.joint_table.item(row, ERROR_COLUMN)
-            cell.setText(number(error))
+            for column, value in ((BAXTER_COLUMN, baxter), (ERROR_COLUMN, error)):
+                cell = self.joint_table.item(row, column)
+                cell.setText(number(value))
+                cell.setForeground(QtGui.QColor(freshness.STALE_TEXT_COLOUR) if baxter_stale
+                                   else QtGui.QBrush())
+            self.joint_table.item(row, BAXTER_COLUMN).setBackground(
+                QtGui.QColor(GREY) if baxter_stale else QtGui.QBrush())
             level = tracking.error_level(error) if judged else None
             cell.setBackground(QtGui.QColor(ERROR_COLOUR[level]) if level else QtGui.QBrush())
         lagging = {}
         for follower, following in zip(interface.BAXTER_SIDES, follows):
             worst = None
-            if following and follower in poses:
+            if following and follower in poses and not teleop_stale:
                 worst = tracking.largest_error(tracking.tracking(side, follower, poses, puppet))
             large = worst is not None and tracking.error_level(worst[1]) == tracking.LARGE
             if self._lag[follower].update(now_s, large):
                 lagging[follower] = worst
-        line = tracking.status_line(teleop, lagging, bool(poses))
+        line = tracking.status_line(
+            teleop, lagging, bool(poses),
+            freshness.age_s(teleop.received_s, now_s) if teleop_stale else None,
+            freshness.age_s(received_s, now_s))
         self.tracking_label.setText(line.text)
         paint(self.tracking_label, LINE_COLOUR[line.level])
 
@@ -223,3 +293,4 @@ class MainTab(QtWidgets.QWidget):
             text += '\n' + '   '.join('%s: %s' % kv for kv in link.values)
         self.link_label.setText(text)
         paint(self.link_label, colour)
+

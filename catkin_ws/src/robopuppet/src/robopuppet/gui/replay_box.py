@@ -1,5 +1,5 @@
 """The replay control (in the Recording box): play a recorded episode onto Baxter or into this
-window's puppet, stop it, and open the episode's plot.
+window's puppet, stop it, and show the episode's plot (in a gui.plot_dialog window).
 
 It runs the real commands as child processes (QProcess: their output is read as it arrives,
 the GUI thread never waits on them): `rosrun robopuppet replay` and, for a missing plot,
@@ -9,18 +9,14 @@ killed. Closing the window stops a running replay the same way.
 """
 import os
 
-from PyQt5 import QtCore, QtGui, QtWidgets
+from PyQt5 import QtCore, QtWidgets
 
 from robopuppet.episodes import replay_control as rc
+from robopuppet.gui.plot_dialog import PlotDialog
 
 STOP_GRACE_S = 5.0     # after Stop: then SIGTERM, and as long again: SIGKILL
 CLOSE_WAIT_S = 3.0     # closing the window waits this long for the replay to stop itself
 MIN_SPEED, MAX_SPEED = 0.1, 2.0
-
-
-def open_with_desktop(path):
-    """Open a file with the desktop's viewer."""
-    QtGui.QDesktopServices.openUrl(QtCore.QUrl.fromLocalFile(path))
 
 
 class ReplayBox(QtWidgets.QWidget):
@@ -30,13 +26,14 @@ class ReplayBox(QtWidgets.QWidget):
         client: a PuppetClient (or a test double) with .side, recording_status(),
             episodes_dir() and stop_replay().
         replay_command, export_command: the commands run (programs and leading arguments).
-        open_file(path): shows a plot (default: the desktop's viewer).
+        open_file(path): shows a plot (default: show_plot, a PlotDialog in the GUI).
     """
 
     def __init__(self, client, replay_command=rc.REPLAY_COMMAND,
-                 export_command=rc.EXPORT_COMMAND, open_file=open_with_desktop, parent=None):
+                 export_command=rc.EXPORT_COMMAND, open_file=None, parent=None):
         super().__init__(parent)
-        self._client, self._open_file = client, open_file
+        self._client, self._open_file = client, open_file or self.show_plot
+        self.plot_dialog = None        # the PlotDialog shown last
         self._commands = {'replay': replay_command, 'export': export_command}
         self.process = self.exporter = None
         self._terminated = False
@@ -198,6 +195,19 @@ class ReplayBox(QtWidgets.QWidget):
                                     lambda code, status: self._plot_made(code, status, path))
         self.plot_button.setText('making the plot…')
         self._enable()
+
+    def show_plot(self, path):
+        """Show the plot in a PlotDialog (one at a time: a new plot replaces the last)."""
+        try:
+            dialog = PlotDialog(path, self)
+        except OSError as error:
+            self._show('no plot: %s' % error)
+            return
+        if self.plot_dialog is not None:
+            self.plot_dialog.close()
+        self.plot_dialog = dialog
+        dialog.show()
+        dialog.raise_()
 
     def _plot_made(self, code, status, path):
         output = bytes(self.exporter.readAllStandardOutput()).decode(errors='replace')

@@ -101,16 +101,22 @@ def zone_text(zone_left, zone_right):
     return '; '.join("keep-out zone '%s' holds back Baxter's %s arm" % h for h in held)
 
 
-def status_line(teleop, lagging, baxter_known):
+def status_line(teleop, lagging, baxter_known, teleop_age_s=None, baxter_age_s=None):
     """Return the Line under the joint table.
 
     Args:
         teleop: the state.Teleop, or None.
         lagging: {Baxter side: (joint, error rad)} of the following arms that lag.
         baxter_known: whether Baxter's pose is recent (BAXTER_STALE_S).
+        teleop_age_s: set when the teleop state is no longer current (s since it came): its
+            zones and following arms are then not shown as if they were (IDLE, with the age).
+        baxter_age_s: the age of Baxter's last pose (s), None when none came.
     """
     if teleop is None:
         return Line('no arm controller', IDLE)
+    if teleop_age_s is not None:
+        return Line('NOT CURRENT: no report from the arm controller for %.0f s; zones and '
+                    'lag unknown' % teleop_age_s, IDLE)
     zones = zone_text(teleop.zone_left, teleop.zone_right)
     if zones:  # a zone explains the lag that comes with it
         return Line(zones, ZONE)
@@ -121,5 +127,8 @@ def status_line(teleop, lagging, baxter_known):
     if not (teleop.follow_left or teleop.follow_right):
         return Line('Baxter not following', IDLE)
     if not baxter_known:
-        return Line("no recent /robot/joint_states: Baxter's pose unknown", IDLE)
+        if baxter_age_s is None:
+            return Line("no /robot/joint_states yet: Baxter's pose unknown", IDLE)
+        return Line("NOT CURRENT: no /robot/joint_states for %.0f s: Baxter's pose unknown"
+                    % baxter_age_s, IDLE)
     return Line('Baxter tracks the puppet', TRACKS)

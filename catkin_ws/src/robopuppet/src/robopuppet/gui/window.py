@@ -1,5 +1,5 @@
-"""The GUI window: main tab, cameras, calibration wizard, optional joint tabs and virtual puppet
-panel."""
+"""The GUI window: main tab (with the camera beside the status), calibration wizard, optional
+joint tabs and virtual puppet panel."""
 from PyQt5 import QtWidgets
 
 from robopuppet import settings
@@ -20,7 +20,8 @@ class Window(QtWidgets.QMainWindow):
         client: a PuppetClient (or a test double with .side, .state, .now() and its setters).
         debug_mode: show the seven joint tabs.
         sim: a SimPuppetClient to show the virtual puppet panel, or None.
-        cameras: a CameraClient to show the Cameras tab (camera_pane), or None.
+        cameras: a CameraClient to show the camera pane on the main tab, beside the status
+            (camera_pane), or None.
     """
 
     def __init__(self, client, debug_mode=True, sim=None, cameras=None):
@@ -28,11 +29,9 @@ class Window(QtWidgets.QMainWindow):
         self.client = client
         self.setWindowTitle('RoboPuppet — arm %s' % client.side)
         self.tabs = QtWidgets.QTabWidget()
-        self.main_tab = MainTab(client)
-        self.tabs.addTab(self.main_tab, 'Main')
         self.camera_pane = CameraPane(cameras) if cameras is not None else None
-        if self.camera_pane is not None:
-            self.tabs.addTab(self.camera_pane, 'Cameras')
+        self.main_tab = MainTab(client, self.camera_pane)
+        self.tabs.addTab(self.main_tab, 'Main')
         self.calibration_tab = CalibrationTab(client)
         self.tabs.addTab(self.calibration_tab, 'Calibration')
         self.joint_tabs = []

@@ -196,5 +196,7 @@ def rate_problem(measured_hz, expected_hz, tolerance=RATE_TOLERANCE):
     if abs(measured_hz - expected_hz) <= tolerance * expected_hz:
         return None
     return ('state sets arrive at %.1f Hz, but comm_rate is %.1f Hz (more than %.0f %% off): '
-            'the firmware\'s rate is a compile-time constant (10 Hz in 2020); set comm_rate '
-            'to match it' % (measured_hz, expected_hz, tolerance * 100))
+            'a real puppet\'s firmware rate is a compile-time constant (10 Hz in 2020), so set '
+            'comm_rate to match it; a simulated puppet sends at comm_rate, so there the machine '
+            'is too loaded to keep up (free some CPU)' % (measured_hz, expected_hz,
+                                                         tolerance * 100))

@@ -2,6 +2,8 @@
 import threading
 import time
 
+import rosgraph
+import rospkg
 import rospy
 from sensor_msgs.msg import JointState
 from std_msgs.msg import (Float32MultiArray, Header, MultiArrayDimension, MultiArrayLayout, String,
@@ -50,7 +52,9 @@ class PuppetSimNode:
             joint (0 where it lets go): in feel mode, what the nurse feels.
     Parameters:
         ~arm_side (str, required): 'L' or 'R'.
-        ~port_link (str, default /tmp/robopuppet_arm_<side>): symlink to the pseudo-terminal.
+        ~port_link (str, default $ROS_HOME/robopuppet/pty_<master host>_<port>_arm_<side>, see
+            interface.sim_link_prefix): symlink to the pseudo-terminal; refused (exit 1) while
+            another live simulator owns it, removed at exit only while it is still ours.
         ~state_rate (float, default 10.0 Hz): rate of the state sets.
         ~hall_disconnected (list of int, default []): hall-encoder joints (1, 3, 5) missing at
             power-on: they report Disconnected and angle 0.
@@ -62,7 +66,9 @@ class PuppetSimNode:
     def __init__(self):
         side = rospy.get_param('~arm_side')
         self._ns = interface.sim_ns(side)  # ValueError for a bad side
-        self._pty = PtyPort(rospy.get_param('~port_link', interface.DEFAULT_SIM_LINK % side))
+        default_link = '%s_arm_%s' % (interface.sim_link_prefix(
+            rosgraph.get_master_uri(), rospkg.get_ros_home()), side)
+        self._pty = PtyPort(rospy.get_param('~port_link', default_link))
         missing = rospy.get_param('~hall_disconnected', [])
         packet_size = rospy.get_param('~usb_packet_size', 0)
         check_params(missing, packet_size)
@@ -104,9 +110,9 @@ class PuppetSimNode:
         return rospy.Subscriber(topic, msg_type, on_msg, queue_size=10)
 
     def run(self):
-        """Serve the pseudo-terminal until shutdown; the link is removed on exit."""
-        rospy.loginfo('simulated puppet on %s -> %s', self._pty.link, self._pty.open())
+        """Serve the pseudo-terminal until shutdown; our link is removed on exit."""
         try:
+            rospy.loginfo('simulated puppet on %s -> %s', self._pty.link, self._pty.open())
             while not rospy.is_shutdown():
                 if self._guard.call('simulator loop', self._step) is None:
                     time.sleep(0.05)  # a failure repeats at most 20 times a second
