@@ -200,3 +200,9 @@ def test_a_target_without_its_arm_s_names_is_refused():
     assert 'ignored' in ghost.on_target(1.0, 'R', left_names, POSE_L)  # R needs right_*
     assert 'ignored' in ghost.on_target(1.0, 'L', left_names, POSE_L[:6])
     assert ghost.sources(1.0) == {'left': REAL, 'right': REAL}
+
+
+def test_the_refusal_of_a_garbage_target_stays_one_short_line():
+    # Garbage on the target topic (a 10^5-character name) once made a 100 kB log line.
+    warning = make().on_target(1.0, 'L', ['', 'x' * 100000], [0.0, 0.0])
+    assert 'ignored' in warning and len(warning) < 300

@@ -19,6 +19,7 @@ of the puppets' angles (on_target): a target counts as live while it keeps comin
 ghost sinks into the real robot when no calibration runs.
 """
 import math
+import reprlib
 
 from robopuppet.arm.joint_motion import clamp, mirror
 from robopuppet.arm.readings import joint_angles
@@ -76,7 +77,7 @@ class GhostPose:
         arm_names = arm_joint_names(BAXTER_SIDE[side])
         if len(names) != len(positions) or not set(arm_names) <= set(names):
             return ('calibration target %s ignored: needs %s with one position each, got %s'
-                    % (side, ', '.join(arm_names), list(names)))
+                    % (side, ', '.join(arm_names), reprlib.repr(list(names))))  # garbage: cut
         by_name = dict(zip(names, positions))
         return self.on_puppet(t, side, JOINT_NAMES, [by_name[n] for n in arm_names])
 
