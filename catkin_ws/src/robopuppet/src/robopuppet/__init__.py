@@ -12,8 +12,9 @@ Data flows from the puppet to Baxter:
 |               | settings (the joint settings), baxter_description (URDF),   |                 |
 |               | periodic (guarded loops), params (parameter checks),        |                 |
 |               | float32 (the settings' wire rounding and text);             |                 |
-|               | link_recovery (the one shared ROS adapter: subscriptions    |                 |
-|               | that come back soon after a link cut)                       |                 |
+|               | link_recovery (a shared ROS adapter: subscriptions that     |                 |
+|               | come back soon after a link cut); shape_markers (another:   |                 |
+|               | RViz markers of shapes, the zones' and the room's)          |                 |
 | config/       | config_X: ini store, settings keeper, atomic file, the node | tables          |
 | baxter_sim/   | baxter_sim: the kinematic Baxter stand-in and its node      | tables, world   |
 | protocol/     | serial_X: frames, link, state sets, serial core, settings   | tables          |

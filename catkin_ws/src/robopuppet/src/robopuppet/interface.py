@@ -71,6 +71,9 @@ DIAGNOSTICS = '/diagnostics'
 REPLAY_STOP = '/puppet/replay_stop'  # std_msgs/Empty: stop a running replay (the GUI's Stop)
 # visualization_msgs/MarkerArray, latched (arm_X): the keep-out zones, in Baxter's base frame
 ZONE_MARKERS = '/robopuppet/keepout_zones'
+# visualization_msgs/MarkerArray, latched (sim_cameras): the room the simulated cameras draw (bed,
+# patient), muted, in Baxter's base frame
+ROOM_MARKERS = '/robopuppet/room'
 # Each node's status of one arm on /diagnostics: hardware_id is puppet_ns(side) and the status
 # name ends with what it is about, so a reader finds it without knowing the node's name.
 DIAG_LINK = 'puppet serial link'   # serial_X

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """rostest: main_sim with config/zones.yaml; the puppet would put Baxter's gripper into the
 patient-head zone: Baxter stops at the boundary, teleop_state names the zone, and it follows
-again when the puppet moves back."""
+again when the puppet moves back. RViz's markers: the room (sim_cameras) is published, and the
+zone markers highlight the zone while it holds Baxter and not after."""
 import threading
 import time
 import unittest
@@ -10,13 +11,19 @@ import numpy as np
 import rospy
 import rostest
 from sensor_msgs.msg import JointState
+from visualization_msgs.msg import Marker, MarkerArray
 
-from robopuppet import baxter_description as bd, interface
+from robopuppet import baxter_description as bd, interface, shape_markers
+from robopuppet.arm import zone_topics
 from robopuppet.arm.joint_motion import mirror
-from robopuppet.world import arm_capsules, zones
+from robopuppet.cameras import scene
+from robopuppet.world import arm_capsules, obstacles, zones
 from teleop_harness import Baxter, PuppetArm, calibrate, max_error, wait_for
 
 ZONES_FILE = bd.URDF_PATH.replace('urdf/baxter.urdf', 'config/zones.yaml')
+WORLD_FILE = bd.URDF_PATH.replace('urdf/baxter.urdf', 'config/world.yaml')
+BED_FILE = bd.URDF_PATH.replace('urdf/baxter.urdf', 'config/bed_obstacles.yaml')
+HELD_HEAD = "'patient head' holds back Baxter's left arm"
 # Baxter's left arm: the gripper 12 cm above the head zone, and a pose that puts it 12 cm in.
 ABOVE_HEAD = [-0.43, -0.753, 0.206, 0.959, 0.218, 0.89, -0.307]
 INTO_HEAD = [-0.377, -0.349, 0.157, 0.936, 0.196, 0.672, -0.307]
@@ -40,6 +47,24 @@ class Samples:
             return np.array(self.rows[count:])
 
 
+class Latest:
+    """The newest MarkerArray of a topic."""
+
+    def __init__(self, topic):
+        self.array = None
+        rospy.Subscriber(topic, MarkerArray, self._on, queue_size=10)
+
+    def _on(self, msg):
+        self.array = msg
+
+    def held(self):
+        """Return the texts of the highlighted zones' markers ([] none; None: nothing yet)."""
+        if self.array is None:
+            return None
+        return [m.text for m in self.array.markers
+                if m.ns == zone_topics.HELD_NAMESPACE and m.type == Marker.TEXT_VIEW_FACING]
+
+
 class ZonesSimTest(unittest.TestCase):
 
     def test_baxter_stops_at_the_patient_head_zone(self):
@@ -51,6 +76,16 @@ class ZonesSimTest(unittest.TestCase):
         self.assertLess(guard.clearance(INTO_HEAD).min(), -0.05)
 
         puppet, baxter, samples = PuppetArm('R'), Baxter(), Samples()
+        room, zone_markers = Latest(interface.ROOM_MARKERS), Latest(interface.ZONE_MARKERS)
+        wait_for(lambda: room.array is not None, 30, 'the room markers')
+        expected = shape_markers.room_shapes(scene.load_world(WORLD_FILE).shapes,
+                                             obstacles.load_obstacles(BED_FILE))
+        drawn = [m for m in room.array.markers if m.action == Marker.ADD]
+        self.assertEqual(len(drawn), len(expected))
+        self.assertTrue(all(m.header.frame_id == bd.BASE_FRAME for m in drawn))
+        self.assertEqual(sorted(round(m.scale.x, 3) for m in drawn), sorted(round(
+            s.size[0] if s.type == 'box' else 2 * s.radius, 3) for s in expected))
+        wait_for(lambda: zone_markers.held() == [], 30, 'the zone markers, none held')
         wait_for(lambda: puppet.state() == interface.CALIBRATING, 30, 'arm_R calibrating')
         puppet.end_piece(False)
         calibrate(puppet, mirror(ABOVE_HEAD))   # Baxter's left arm mirrors puppet R
@@ -77,6 +112,8 @@ class ZonesSimTest(unittest.TestCase):
         self.assertLess(guard.clearance(held).min(), 0.01, 'Baxter stopped short of the zone')
         detail = puppet.teleop.detail
         self.assertRegex(detail, r"held back by keep-out zone 'patient head' \(\w+\)")
+        wait_for(lambda: zone_markers.held() == [HELD_HEAD], 5,
+                 'the head zone highlighted (now %r)' % zone_markers.held())
 
         puppet.hand(mirror(ABOVE_HEAD))            # back out: Baxter follows again
         wait_for(lambda: max_error(baxter.arm('left'), mirror(puppet.angles)) < 0.01 and
@@ -84,6 +121,7 @@ class ZonesSimTest(unittest.TestCase):
                  'left arm back above the head')
         wait_for(lambda: 'keep-out zone' not in puppet.teleop.detail, 5,
                  'the zone gone from teleop_state')
+        wait_for(lambda: zone_markers.held() == [], 5, 'the highlight gone')
 
 
 if __name__ == '__main__':

@@ -22,9 +22,9 @@ RELATIVE = {interface.JOINT_STATES, interface.USER_BUTTON, interface.HEARTBEAT, 
             interface.SET_ARM_CONFIG, interface.STORED_SETTINGS, interface.ACTIVE_SETTINGS,
             interface.LINK_PING, interface.LINK_ECHO, interface.LINK_STATE}
 ABSOLUTE = {interface.DIAGNOSTICS, interface.REPLAY_STOP, interface.ZONE_MARKERS,
-            interface.ROBOT_STATE, interface.ROBOT_JOINT_STATES, interface.SET_SUPER_ENABLE,
-            interface.SET_SUPER_RESET, interface.SET_SUPER_STOP, recording.RECORD_SERVICE,
-            recording.RECORDING_TOPIC}
+            interface.ROOM_MARKERS, interface.ROBOT_STATE, interface.ROBOT_JOINT_STATES,
+            interface.SET_SUPER_ENABLE, interface.SET_SUPER_RESET, interface.SET_SUPER_STOP,
+            recording.RECORD_SERVICE, recording.RECORDING_TOPIC}
 SIM = {interface.SIM_HAND, interface.SIM_BUTTON, interface.SIM_GRIPPERS, interface.SIM_CONTROL,
        interface.SIM_HAND_TORQUE, interface.SIM_LINE_NOISE, interface.SIM_DEVICE_CONFIG,
        interface.SIM_DEVICE_OPMODE}

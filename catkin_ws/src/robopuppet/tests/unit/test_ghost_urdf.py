@@ -88,3 +88,58 @@ def test_the_executable_prints_the_ghost_or_fails_with_a_message(capsys, tmp_pat
     assert ghost_urdf.main([str(tmp_path / 'missing.urdf')]) == 1
     assert 'missing.urdf' in capsys.readouterr().err
     assert ghost_urdf.main([]) == 2
+
+
+def colours(text):
+    """Return {material name: (r, g, b, a)} of a description's top-level materials."""
+    return {m.get('name'): tuple(float(c) for c in m.find('color').get('rgba').split())
+            for m in ET.fromstring(text).findall('material')}
+
+
+@pytest.mark.parametrize('name', sorted(ghost_urdf.TINTS))
+def test_the_ghost_and_the_target_are_tinted_and_pass_check_urdf(tmp_path, name):
+    tint = ghost_urdf.TINTS[name]
+    text = ghost_urdf.prefix_description(ORIGINAL, name + '/', tint)
+    original, tinted = colours(ORIGINAL), colours(text)
+    assert set(tinted) == set(original) and len(original) >= 7
+    for material, (r, g, b, a) in tinted.items():
+        assert a == original[material][3]
+        scale = r / tint[0]   # every colour is the tint, shaded
+        assert (g, b) == (pytest.approx(tint[1] * scale, abs=2e-3),
+                          pytest.approx(tint[2] * scale, abs=2e-3)), material
+        assert ghost_urdf.SHADE_FLOOR - 0.01 <= scale <= 1.0
+    # Baxter's dark joints stay darker than its light grey parts
+    assert tinted['baxter_black'][0] < tinted['baxter_grey'][0]
+    # visuals name the materials, so RViz draws every link in the tint
+    assert {m.get('name') for m in ET.fromstring(text).iter('material')} == set(original)
+    path = tmp_path / 'tinted.urdf'
+    path.write_text(text)
+    result = subprocess.run(['check_urdf', str(path)], capture_output=True, text=True,
+                            timeout=30)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert 'root Link: %s/base' % name in result.stdout
+
+
+def test_ghost_and_target_tints_differ_from_each_other_and_from_baxters_red():
+    ghost, target = (colours(ghost_urdf.prefix_description(ORIGINAL, 'x/', ghost_urdf.TINTS[n]))
+                     for n in ('ghost', 'target'))
+    red = colours(ORIGINAL)['baxter_red']
+    assert red[0] > 0.5 and red[2] < 0.1
+    assert ghost['baxter_red'][2] > ghost['baxter_red'][0] + 0.3     # blue
+    assert target['baxter_red'][1] > target['baxter_red'][0] + 0.3   # green
+
+
+def test_the_launch_file_asks_for_the_tints_by_name():
+    launch = open(baxter_description.URDF_PATH.replace('urdf/baxter.urdf',
+                                                       'launch/ghost.launch')).read()
+    assert '$(arg ghost_prefix) ghost"' in launch and '$(arg target_prefix) target"' in launch
+
+
+def test_the_command_prints_a_tinted_description(tmp_path, capsys):
+    assert ghost_urdf.main([baxter_description.URDF_PATH, 'target/', 'target']) == 0
+    assert colours(capsys.readouterr().out) == colours(ghost_urdf.prefix_description(
+        ORIGINAL, 'target/', ghost_urdf.TINTS['target']))
+    assert ghost_urdf.main([baxter_description.URDF_PATH, 'g/', '0.1,0.2,0.9']) == 0
+    assert colours(capsys.readouterr().out)['baxter_grey'][2] > 0.5
+    assert ghost_urdf.main([baxter_description.URDF_PATH, 'g/', 'purple']) == 1
+    assert 'tint' in capsys.readouterr().err

@@ -38,6 +38,7 @@ ADAPTERS = {
     'cameras.camera_node', 'cameras.republish_node', 'gui.camera_client',
     'cameras.sim_camera_node', 'cameras.node_loops',
     'link_recovery',   # the nodes' shared watch on rospy's connections across the link
+    'shape_markers',   # RViz markers of shapes: the zones (arm_X) and the room (sim_cameras)
 }
 # The GUI's widgets are Qt by nature; they may import Qt but not rospy.
 QT_MODULES_OK = 'gui'

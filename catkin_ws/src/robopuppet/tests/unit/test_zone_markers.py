@@ -31,3 +31,77 @@ def test_every_zone_is_a_translucent_shape_with_its_name_above_it():
     assert (head.color.r, head.color.a) == (pytest.approx(0.9), pytest.approx(0.3))
     assert len({m.id for m in shapes_drawn}) == 4
     assert names[0].pose.position.z > head.pose.position.z + 0.18   # above the sphere
+
+
+def colours(array):
+    """Return {(namespace, id): (r, g, b, a)} of a MarkerArray's ADD shape markers."""
+    return {(m.ns, m.id): (m.color.r, m.color.g, m.color.b, m.color.a) for m in array.markers
+            if m.action == Marker.ADD and m.type != Marker.TEXT_VIEW_FACING}
+
+
+def test_a_zone_holding_an_arm_is_drawn_over_in_a_strong_colour_with_its_arm_named():
+    found = zones.load_zones(ZONES_FILE)
+    plain = zone_topics.zone_markers(found, rospy.Time(5))
+    held = zone_topics.zone_markers(found, rospy.Time(5), {'patient head': ['left']})
+    assert colours(plain) == {k: v for k, v in colours(held).items()
+                              if k[0] == zone_topics.NAMESPACE}   # the zones as before
+    strong = {k: v for k, v in colours(held).items() if k[0] == zone_topics.HELD_NAMESPACE}
+    head = [z.name for z in found].index('patient head')
+    assert list(strong) == [(zone_topics.HELD_NAMESPACE, head)]
+    r, g, b, a = strong[(zone_topics.HELD_NAMESPACE, head)]
+    assert a >= 0.8 and r == pytest.approx(1.0) and b < 0.2   # opaque-ish orange, not red
+    shape = {m.id: m for m in held.markers if m.ns == zone_topics.HELD_NAMESPACE
+             and m.type == Marker.SPHERE}[head]
+    assert shape.scale.x > 0.36 and shape.pose.position.y == pytest.approx(0.80)  # over it
+    texts = [m.text for m in held.markers if m.ns == zone_topics.HELD_NAMESPACE
+             and m.type == Marker.TEXT_VIEW_FACING]
+    assert texts == ["'patient head' holds back Baxter's left arm"]
+    assert all(m.header.frame_id == bd.BASE_FRAME for m in held.markers)
+    both = zone_topics.zone_markers(found, rospy.Time(5), zone_topics.holding_zones(
+        'bed', 'bed'))
+    assert [m.text for m in both.markers if m.ns == zone_topics.HELD_NAMESPACE and m.text] == [
+        "'bed' holds back Baxter's left and right arms"]
+
+
+def test_holding_zones_from_teleop_states_fields():
+    assert zone_topics.holding_zones('', '') == {}
+    assert zone_topics.holding_zones('bed', '') == {'bed': ['left']}
+    assert zone_topics.holding_zones('bed', 'patient head') == {'bed': ['left'],
+                                                                'patient head': ['right']}
+
+
+class Recorder:
+    def __init__(self, fail=False):
+        self.sent, self.fail = [], fail
+
+    def publish(self, array):
+        if self.fail:
+            raise RuntimeError('publisher closed')
+        self.sent.append(array)
+
+
+def held_texts(array):
+    return [m.text for m in array.markers if m.ns == zone_topics.HELD_NAMESPACE and m.text]
+
+
+def test_the_view_republishes_only_when_the_holding_zones_change(monkeypatch):
+    monkeypatch.setattr(rospy.Time, 'now', staticmethod(lambda: rospy.Time(9)))
+    found = zones.load_zones(ZONES_FILE)
+    out = Recorder()
+    view = zone_topics.ZoneView(out, found, 'arm_R')
+    view.show(0.0, '', '')                       # as published at start: nothing new
+    assert out.sent == []
+    view.show(1.0, 'patient head', '')
+    view.show(1.01, 'patient head', '')          # every report at the command rate: once
+    assert [held_texts(a) for a in out.sent] == [["'patient head' holds back Baxter's left arm"]]
+    view.show(1.05, '', '')                      # too soon after the last: held back ...
+    assert len(out.sent) == 1
+    view.show(1.3, '', '')                       # ... and sent with a later report
+    assert len(out.sent) == 2 and held_texts(out.sent[-1]) == []
+
+
+def test_a_failed_publish_never_reaches_the_caller(monkeypatch):
+    monkeypatch.setattr(rospy.Time, 'now', staticmethod(lambda: rospy.Time(9)))
+    view = zone_topics.ZoneView(Recorder(fail=True), zones.load_zones(ZONES_FILE), 'arm_R')
+    view.show(1.0, 'bed', '')                    # logged, not raised
+    zone_topics.ZoneView(Recorder(), [], 'arm_R').show(1.0, 'bed', '')   # no zones: nothing

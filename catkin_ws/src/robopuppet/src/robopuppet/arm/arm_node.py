@@ -65,8 +65,9 @@ class ArmNode:
         ~zones_file (str, '' for none; e.g. the package's config/zones.yaml: keep-out zones that
         cut every command of a following arm, docs/zones.md; a bad file stops the node).
       Keep-out zones: publishes interface.ZONE_MARKERS (/robopuppet/keepout_zones,
-        visualization_msgs/MarkerArray, latched); teleop_state's detail names the zone and link
-        that hold an arm back.
+        visualization_msgs/MarkerArray, latched; again, the zone holding an arm back
+        highlighted, when that changes); teleop_state's detail names the zone and link that
+        hold an arm back.
     """
 
     def __init__(self):
@@ -88,7 +89,7 @@ class ArmNode:
             side, {s: baxter_description.arm_limits(s) for s in ifc.BAXTER_SIDES}, rate,
             param('heartbeat_timeout', ifc.HEARTBEAT_TIMEOUT_S), param('approach_speed', 0.5),
             self._period_s, self._guard, time.monotonic(), bound, zone_guards)
-        self._zones_pub = zone_topics.publish_zones(found)
+        self._zone_view = zone_topics.publish_zones(found, self._name)
         pub, sub = (functools.partial(f, queue_size=10) for f in (rospy.Publisher,
                                                                   rospy.Subscriber))
         arm = {s: pub(ifc.limb_topic(s, 'joint_command'), JointCommand, tcp_nodelay=True)
@@ -233,6 +234,7 @@ class ArmNode:
                           zone_left=r.zone_left, zone_right=r.zone_right)
         msg.header.stamp = rospy.Time.now()
         self._pub_state.publish(msg)
+        self._zone_view.show(time.monotonic(), r.zone_left, r.zone_right)  # never raises
         self._pub_diag.publish(DiagnosticArray(header=msg.header, status=[DiagnosticStatus(
             level=getattr(DiagnosticStatus, r.level), name=r.diag_name, message=r.message,
             hardware_id=r.hardware_id, values=[KeyValue(k, v) for k, v in r.values])]))

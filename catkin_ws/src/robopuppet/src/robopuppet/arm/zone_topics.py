@@ -1,24 +1,29 @@
 """arm_X's keep-out zones: the zone file it reads and the zones it shows RViz (an adapter).
 
 The zones bind the arm controller (world.zones.ZoneGuard, wired in through teleop.Teleop); this
-module reads them and draws them. docs/zones.md describes both. The replay (episodes.replay_node)
-reads the same files the running arm controllers were given, through here.
+module reads them and draws them, the zones holding Baxter's arms back highlighted (ZoneView).
+docs/zones.md describes both. The replay (episodes.replay_node) reads the same files the running
+arm controllers were given, through here.
 """
 import os
 
 import rospkg
 import rospy
-from geometry_msgs.msg import Point, Pose, Quaternion, Vector3
-from std_msgs.msg import ColorRGBA
 from visualization_msgs.msg import Marker, MarkerArray
 
-from robopuppet import baxter_description as bd, interface
+from robopuppet import baxter_description as bd, interface, shape_markers
 from robopuppet.world import arm_capsules, zones
 
 ZONE_COLOUR = (0.9, 0.1, 0.1)   # a zone without a colour of its own
 ZONE_ALPHA = 0.3                # translucent: what is inside stays visible
+NAME_COLOUR = (1.0, 1.0, 1.0, 0.9)
 NAMESPACE, NAME_NAMESPACE = 'keep-out zones', 'keep-out zone names'
-TEXT_HEIGHT_M = 0.05
+HELD_NAMESPACE = 'keep-out zones holding Baxter'
+HELD_COLOUR = (1.0, 0.45, 0.0, 0.85)      # strong orange over the red: the zone holding an arm
+HELD_TEXT_COLOUR = (1.0, 0.6, 0.1, 1.0)
+HELD_GROW_M = 0.005                       # drawn just outside the zone's own marker
+MIN_REPUBLISH_S = 0.2                     # a zone flickering at the command rate costs little
+TEXT_HEIGHT_M = shape_markers.TEXT_HEIGHT_M
 ZONES_PARAM = 'zones_file'   # arm_X's ~zones_file: arm.launch sets /arm_L/zones_file, ...
 
 
@@ -63,43 +68,68 @@ def load_guards(*paths):
              for side in interface.BAXTER_SIDES}, found)
 
 
-def _marker(shape, index):
-    quaternion = bd.matrix_quaternion(bd.rpy_matrix(*shape.rpy))
-    marker = Marker(ns=NAMESPACE, id=index, action=Marker.ADD,
-                    pose=Pose(Point(*shape.xyz), Quaternion(*quaternion)),
-                    color=ColorRGBA(*(shape.colour or ZONE_COLOUR) + (ZONE_ALPHA,)))
-    if shape.type == 'box':
-        marker.type, marker.scale = Marker.CUBE, Vector3(*shape.size)
-    elif shape.type == 'sphere':
-        marker.type, marker.scale = Marker.SPHERE, Vector3(*[2.0 * shape.radius] * 3)
-    else:
-        marker.type = Marker.CYLINDER
-        marker.scale = Vector3(2.0 * shape.radius, 2.0 * shape.radius, shape.length)
-    return marker
+def _held_text(zone, sides):
+    return "'%s' holds back Baxter's %s arm%s" % (zone, ' and '.join(sides),
+                                                   's' if len(sides) > 1 else '')
 
 
-def _label(shape, index):
-    top = shape.xyz[2] + (shape.size[2] / 2.0 if shape.type == 'box' else shape.radius)
-    return Marker(ns=NAME_NAMESPACE, id=index, action=Marker.ADD, type=Marker.TEXT_VIEW_FACING,
-                  text=shape.name, scale=Vector3(0.0, 0.0, TEXT_HEIGHT_M),
-                  pose=Pose(Point(shape.xyz[0], shape.xyz[1], top + TEXT_HEIGHT_M),
-                            Quaternion(0.0, 0.0, 0.0, 1.0)),
-                  color=ColorRGBA(1.0, 1.0, 1.0, 0.9))
-
-
-def zone_markers(found, stamp):
+def zone_markers(found, stamp, holding=None):
     """Return the MarkerArray of zones: a DELETEALL (zones of an earlier file go), then each
-    zone translucent red in Baxter's base frame, and its name above it."""
+    zone translucent red in Baxter's base frame and its name above it; a zone in `holding`
+    ({zone name: [Baxter sides it holds back]}) is drawn over in HELD_COLOUR, with a line above
+    its name saying which arm it holds."""
+    holding = holding or {}
     markers = [Marker(ns=NAMESPACE, action=Marker.DELETEALL)]
     for index, shape in enumerate(found):
-        markers += [_marker(shape, index), _label(shape, index)]
-    for marker in markers:
-        marker.header.frame_id, marker.header.stamp = bd.BASE_FRAME, stamp
-    return MarkerArray(markers=markers)
+        top = shape_markers.top_z(shape) + TEXT_HEIGHT_M
+        markers += [shape_markers.shape_marker(shape, NAMESPACE, index,
+                                               (shape.colour or ZONE_COLOUR) + (ZONE_ALPHA,)),
+                    shape_markers.text_marker(NAME_NAMESPACE, index, shape.name,
+                                              (shape.xyz[0], shape.xyz[1], top), NAME_COLOUR)]
+        if shape.name in holding:
+            markers += [
+                shape_markers.shape_marker(shape, HELD_NAMESPACE, index, HELD_COLOUR, HELD_GROW_M),
+                shape_markers.text_marker(HELD_NAMESPACE, len(found) + index,
+                                          _held_text(shape.name, holding[shape.name]),
+                                          (shape.xyz[0], shape.xyz[1], top + 1.6 * TEXT_HEIGHT_M),
+                                          HELD_TEXT_COLOUR)]
+    return shape_markers.marker_array(markers, stamp)
 
 
-def publish_zones(found):
-    """Publish the zones once, latched, on interface.ZONE_MARKERS; return the publisher."""
+def holding_zones(zone_left, zone_right):
+    """Return {zone name: [Baxter sides]} of teleop_state's zone_left, zone_right ('' none)."""
+    holding = {}
+    for zone, side in zip((zone_left, zone_right), interface.BAXTER_SIDES):
+        if zone:
+            holding.setdefault(zone, []).append(side)
+    return holding
+
+
+class ZoneView:
+    """Republish the zone markers when the zones holding Baxter's arms change, at most every
+    MIN_REPUBLISH_S (a later report publishes a change held back); never raises: a failed
+    publish is logged, and the commands go on."""
+
+    def __init__(self, publisher, found, name):
+        self._publisher, self._found, self._name = publisher, found, name
+        self._shown, self._shown_s = {}, float('-inf')
+
+    def show(self, now_s, zone_left, zone_right):
+        """Take teleop_state's zones at now_s (monotonic s); republish if they changed."""
+        try:
+            holding = holding_zones(zone_left, zone_right)
+            if not self._found or holding == self._shown or \
+                    now_s - self._shown_s < MIN_REPUBLISH_S:
+                return
+            self._publisher.publish(zone_markers(self._found, rospy.Time.now(), holding))
+            self._shown, self._shown_s = holding, now_s
+        except Exception as error:  # markers are for the eye; commands must not notice
+            rospy.logerr_throttle(10, '%s: zone markers not published: %s', self._name, error)
+
+
+def publish_zones(found, name):
+    """Publish the zones, latched, on interface.ZONE_MARKERS; return the ZoneView that
+    republishes them as zones hold arms back (name: the node's, for its log lines)."""
     publisher = rospy.Publisher(interface.ZONE_MARKERS, MarkerArray, queue_size=1, latch=True)
     publisher.publish(zone_markers(found, rospy.Time.now()))
-    return publisher
+    return ZoneView(publisher, found, name)

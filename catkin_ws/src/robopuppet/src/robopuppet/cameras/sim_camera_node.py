@@ -9,8 +9,9 @@ import tf2_ros
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from geometry_msgs.msg import TransformStamped
 from sensor_msgs.msg import CameraInfo, CompressedImage, Image, JointState
+from visualization_msgs.msg import MarkerArray
 
-from robopuppet import baxter_description as bd, interface
+from robopuppet import baxter_description as bd, interface, shape_markers
 from robopuppet.cameras import node_loops, scene, sim_cameras
 from robopuppet.world import obstacles as obstacle_files
 
@@ -31,6 +32,8 @@ class SimCameraNode:
         (sensor_msgs/CameraInfo: an ideal pinhole matching the image; frame_id the URDF's
         camera frame, or <name>_optical_frame for a room camera);
         /tf_static (base -> <name>_optical_frame of each room camera);
+        /robopuppet/room (visualization_msgs/MarkerArray, latched, once: the world file's shapes
+        and the obstacles, muted, for RViz; published by main());
         /diagnostics (1 Hz: '<node>: simulated cameras', frames/s rendered and published).
     Parameters (sim_cameras.DEFAULTS): ~rate (float, 15 Hz), ~width, ~height (int, 640 x 480
         pixels), ~quality (int 1..100, 80), ~cameras (list, room_camera, left_hand_camera,
@@ -203,4 +206,7 @@ def main():
     rospy.loginfo('%s: %s at %dx%d, up to %g frames/s each while watched; %s, %d obstacles, '
                   '%d zones', rospy.get_name(), ', '.join(settings.cameras), settings.width,
                   settings.height, settings.rate_hz, world_file, len(obstacles), len(zones))
+    room = rospy.Publisher(interface.ROOM_MARKERS, MarkerArray, queue_size=1, latch=True)
+    room.publish(shape_markers.room_markers(shape_markers.room_shapes(world.shapes, obstacles),
+                                            rospy.Time.now()))
     SimCameraNode(settings, core).run()
