@@ -13,6 +13,7 @@ from netbed.bed import BedError
 PORT = 9600
 COUNT = 40
 SLOT_S = 0.003
+WRITE_SLACK_S = 0.005  # received_s may precede written_s by the TUN write's own duration
 SO_TIMESTAMPNS = getattr(socket, 'SO_TIMESTAMPNS', 35)  # Linux: receive time, ns
 
 
@@ -64,8 +65,10 @@ def test_find_tells_each_packets_arrival_delay_and_release(link_bed):
         assert port is None  # UDP
         hold_s = release_s - offered_s
         # in order after when it was sent; its delay within delay +- jitter (in-order release
-        # only raises it within that range); received after the forwarder wrote it.
-        assert sent_s <= offered_s <= release_s <= written_s <= received_s + 1e-4
+        # only raises it within that range); received after the forwarder wrote it. The
+        # forwarder stamps written_s once its write to the TUN device has returned, and the
+        # kernel may deliver (and timestamp) the packet within that write: WRITE_SLACK_S.
+        assert sent_s <= offered_s <= release_s <= written_s <= received_s + WRITE_SLACK_S
         assert 0.020 - 1e-6 <= hold_s <= 0.040 + 1e-6
         holds.append(hold_s)
         assert find(link_bed, needle, 'to-operator') == []
