@@ -10,8 +10,8 @@ depends on this machine's host name resolving; the network tests set each host's
 Usage: run_tests.py [unit|network|integration|all] [NAME ...]
 NAME filters the integration .test files (substring match), or with scope network the network
 tests (pytest -k NAME). Scope unit leaves out the unit tests marked slow (heavy property tests):
-the quick loop; all runs them. Prints one closing line 'N passed, N failed' and exits non-zero when
-anything failed.
+the quick loop; all runs them. Prints one closing line, 'N passed, N failed in M min S s' and each
+part's time, and exits non-zero when anything failed.
 """
 import glob
 import os
@@ -120,6 +120,11 @@ def run_integration(names, work_dir):
     return passed, failed
 
 
+def minutes(elapsed_s):
+    """Return a duration as 'M min S s'."""
+    return '%d min %02d s' % divmod(round(elapsed_s), 60)
+
+
 def main():
     args = sys.argv[1:]
     scope = (args.pop(0) if args and args[0] in ('unit', 'network', 'integration', 'all')
@@ -130,21 +135,27 @@ def main():
     # Every test master and node is reached at 127.0.0.1: never by this machine's host name.
     os.environ['ROS_IP'] = '127.0.0.1'
     os.environ.pop('ROS_HOSTNAME', None)
-    passed = failed = 0
+    parts = []
     if scope in ('unit', 'all') and not args:
-        p, f = run_unit(work_dir, quick=scope == 'unit')
-        passed, failed = passed + p, failed + f
+        parts.append(('unit', lambda: run_unit(work_dir, quick=scope == 'unit')))
     if scope == 'network' or (scope == 'all' and not args):
-        p, f = run_network(args, work_dir)
-        passed, failed = passed + p, failed + f
+        parts.append(('network', lambda: run_network(args, work_dir)))
     if scope in ('integration', 'all'):
-        p, f = run_integration(args, work_dir)
+        parts.append(('integration', lambda: run_integration(args, work_dir)))
+    passed = failed = 0
+    times = []
+    start = time.monotonic()
+    for name, run in parts:
+        part_start = time.monotonic()
+        p, f = run()
         passed, failed = passed + p, failed + f
+        times.append('%s %s' % (name, minutes(time.monotonic() - part_start)))
     if failed:
         print('[test] logs in %s' % work_dir)
     else:
         shutil.rmtree(work_dir, ignore_errors=True)
-    print('%d passed, %d failed' % (passed, failed))
+    print('%d passed, %d failed in %s (%s)'
+          % (passed, failed, minutes(time.monotonic() - start), ', '.join(times)))
     return 1 if failed or passed == 0 else 0
 
 

@@ -64,8 +64,8 @@ def publish_cameras(rate_hz):
     rospy.init_node('bench_cameras', anonymous=True)
     frames = [cv2.imencode('.jpg', scene(i), [cv2.IMWRITE_JPEG_QUALITY, QUALITY])[1].tobytes()
               for i in range(32)]
-    pubs = [rospy.Publisher(interface.camera_topic(name, 'image/compressed'), CompressedImage,
-                            queue_size=1) for name in CAMERAS]
+    pubs = [rospy.Publisher(interface.camera_topic(name, interface.CAMERA_COMPRESSED),
+                            CompressedImage, queue_size=1) for name in CAMERAS]
     rate, index = rospy.Rate(rate_hz), 0
     while not rospy.is_shutdown():
         for pub in pubs:

@@ -144,11 +144,11 @@ def main():
             commander.start()
             time.sleep(2.0)
             cases = [('nobody watching', []),
-                     ('right hand, compressed', [(CAMERAS[-1], 'image/compressed',
+                     ('right hand, compressed', [(CAMERAS[-1], interface.CAMERA_COMPRESSED,
                                                   CompressedImage)]),
-                     ('3 cameras, compressed', [(c, 'image/compressed', CompressedImage)
+                     ('3 cameras, compressed', [(c, interface.CAMERA_COMPRESSED, CompressedImage)
                                                 for c in CAMERAS]),
-                     ('3 cameras, raw bgr8', [(c, 'image', Image) for c in CAMERAS])]
+                     ('3 cameras, raw bgr8', [(c, interface.CAMERA_IMAGE, Image) for c in CAMERAS])]
             print('nodes at ~rate %g Hz, sim_cameras at nice +%d, arms swinging (%g s per case):'
                   % (RATE_HZ, nice, window_s))
             for title, topics in cases:

@@ -118,7 +118,7 @@ def main():
 def run(args, cameras, pid):
     rospy.init_node('bench_recording')
     traffic = Traffic(cameras)
-    record = rospy.ServiceProxy(recording.RECORD_SERVICE, Record)
+    record = rospy.ServiceProxy(interface.RECORD_SERVICE, Record)
     record.wait_for_service(20)
     traffic.run_for(3.0)  # connections made (to a recorder that subscribes while idle), settled
     before = cpu_s(pid)

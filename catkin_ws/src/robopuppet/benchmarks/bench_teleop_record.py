@@ -18,7 +18,7 @@ import rosbag
 import rospy
 
 from bench_support import percentile, start_process, stop_process
-from robopuppet.episodes import recording
+from robopuppet import interface
 from robopuppet_msgs.srv import Record
 
 OFF, IDLE, ON = 'no recorder', 'recorder idle', 'recording'
@@ -36,7 +36,7 @@ class RecorderLaunch:
             ['roslaunch', 'robopuppet', 'recorder.launch', 'record_sides:=R', 'record_sim:=true',
              'episodes_dir:=' + os.path.join(work, 'episodes')], log)
         try:
-            self._record = rospy.ServiceProxy(recording.RECORD_SERVICE, Record)
+            self._record = rospy.ServiceProxy(interface.RECORD_SERVICE, Record)
             self._record.wait_for_service(30)
             time.sleep(SETTLE_S)
         except BaseException:

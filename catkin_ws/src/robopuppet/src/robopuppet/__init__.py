@@ -6,37 +6,25 @@ Data flows from the puppet to Baxter:
                                              ^                                   (or baxter_sim/)
     config/ (config_X: the ini file) --------+      gui/ (gui_X) watches and tunes all of it
 
-| folder        | role                                                        | may import      |
-|---------------|-------------------------------------------------------------|-----------------|
-| (top level)   | shared tables: interface (names, enumerations, timing),     | tables only     |
-|               | settings (the joint settings), baxter_description (URDF),   |                 |
-|               | periodic (guarded loops), params (parameter checks),        |                 |
-|               | float32 (the settings' wire rounding and text);             |                 |
-|               | link_recovery (a shared ROS adapter: subscriptions that     |                 |
-|               | come back soon after a link cut); shape_markers (another:   |                 |
-|               | RViz markers of shapes, the zones' and the room's)          |                 |
-| config/       | config_X: ini store, settings keeper, atomic file, the node | tables          |
-| baxter_sim/   | baxter_sim: the kinematic Baxter stand-in and its node      | tables, world   |
-| protocol/     | serial_X: frames, link, state sets, serial core, settings   | tables          |
-| arm/          | arm_X: controller, teleop, puppet/Baxter watches, timing    | tables, world   |
-| puppet_sim/   | puppet_sim_X: the simulated 2020 firmware and its node      | tables,protocol |
-| calibration/  | home_angle and sign_angle solved from poses; the wizard's   | tables          |
-|               | steps and the terminal command calibrate (calibrate_node)   |                 |
-| gui/          | gui_X: the Qt window and its ROS client                     | tables, arm,    |
-|               |                                                             | config,         |
-|               |                                                             | puppet_sim,     |
-|               |                                                             | calibration,    |
-|               |                                                             | episodes        |
-| ghost/        | ghost: the puppet's pose on a second, translucent Baxter    | tables, arm     |
-| episodes/     | recorder: demonstration episodes as rosbags (what, when,    | tables, arm     |
-|               | names, metadata, disk rule, the episode's files, repair);   | (the exporter), |
-|               | the exporter of episodes                                    | config (the ini |
-|               |                                                             | file's path)    |
-| cameras/      | camera (webcams), camera_republish, sim_cameras: the        | tables, world   |
-|               | stand-in's world file and meshes, rendered by OpenGL        |                 |
-| world/        | Baxter's surroundings: the shape-file format (world.yaml,   | tables          |
-|               | zones, obstacles), the arm as capsules, clearances, the     |                 |
-|               | keep-out zone guard                                         |                 |
+| folder       | may import                   | what it holds                                    |
+|--------------|------------------------------|--------------------------------------------------|
+| (top level)  | tables                       | interface (names, enumerations, timing), settings |
+|              |                              | (the joint settings and their rules), params,    |
+|              |                              | baxter_description (URDF), periodic, float32     |
+| config/      | tables                       | config_X: ini store, settings keeper, atomic file |
+| protocol/    | tables                       | serial_X: frames, link, state sets, serial core  |
+| world/       | tables                       | shape files (world, zones), the arm as capsules, |
+|              |                              | clearances, the keep-out zone guard              |
+| calibration/ | tables                       | home and sign solved from poses, wizard steps,   |
+|              |                              | the terminal command calibrate                   |
+| arm/         | tables, world                | arm_X: controller, teleop, puppet/Baxter watches |
+| baxter_sim/  | tables, world                | baxter_sim: the kinematic Baxter stand-in        |
+| cameras/     | tables, world                | camera, camera_republish, sim_cameras (OpenGL)   |
+| puppet_sim/  | tables, protocol             | puppet_sim_X: the simulated 2020 firmware        |
+| ghost/       | tables, arm                  | ghost: the puppet's pose on a translucent Baxter |
+| episodes/    | tables, arm, config          | recorder, replay, the exporter of episodes       |
+| gui/         | tables, arm, calibration,    | gui_X: the Qt window and its ROS client          |
+|              | config, episodes, puppet_sim |                                                  |
 
 The subsystems meet only through ROS topics and services named in interface.py (settings reach
 serial_X as config_X's active_settings, not as an import); puppet_sim/ shares protocol/'s codec
@@ -47,8 +35,40 @@ holds no node of its own. ghost/ maps the puppet's angles with arm/'s pure joint
 readings, so that the ghost shows exactly what arm_X would command; gui/ maps Baxter's pose back
 into puppet space with the same joint_motion rule as arm_X's feel mode.
 
-Within a folder the node adapter (`*_node.py`) is the only module that talks to ROS (besides
-gui.puppet_client, the GUI's ROS client, and the few adapters test_layout.py lists); the others are pure (no rospy, no Qt outside
-gui/) and take time as an argument. Only the executables in nodes/ import a `*_node` module.
-tests/unit/test_layout.py checks all of this.
+Only the ROS adapters talk to ROS (import rospy or message packages): each folder's node
+(`*_node.py`, imported only by the executables in nodes/) and the modules listed here. The others
+are pure: no rospy, no Qt outside gui/, time taken as an argument.
+
+ROS adapters besides the nodes:
+- `link_recovery`: subscriptions across the operator-robot link that come back after a cut
+- `shape_markers`: RViz markers of shapes (arm_X's zones, sim_cameras' room)
+- `config.arm_topics`: config_X's settings topics, its opmode and teleop_state subscriptions
+- `protocol.serial_topics`: serial_X's publishers, its diagnostics and its link_ping echo
+- `arm.arm_params`: arm_X's ~parameters and the controller made from them
+- `arm.command_loop`: arm_X's command loop, its watchdog and the publishers of its actions
+- `arm.link_topics`: arm_X's topics of the operator-robot link
+- `arm.teleop_topics`: arm_X's teleop_state, its /diagnostics status and zone markers
+- `arm.zone_topics`: arm_X's zone file and zone markers
+- `baxter_sim.baxter_params`: baxter_sim's parameters, read and made into its BaxterApi
+- `baxter_sim.baxter_publishers`: baxter_sim's publishers of each cycle's states
+- `puppet_sim.puppet_publishers`: puppet_sim_X's publishers of each device step
+- `calibration.arm_reader`: the calibrate command's view of one puppet arm
+- `episodes.bag_chunks`: a bag read one chunk at a time
+- `episodes.episode_files`: an episode's bag, written raw, and its repair
+- `episodes.export_files`: the exporter's and the replay's reads of an episode's bag
+- `episodes.player`: what the two episode players share
+- `episodes.puppet_player`: playback into the puppet
+- `episodes.robot_player`: playback onto the robot
+- `episodes.recorder_claim`: the recorder's folder lock and service, claimed before it registers
+- `episodes.recorder_params`: the recorder's ~parameters and the metadata's facts of the system
+- `cameras.camera_topics`: a camera's image topics and fixed cameras' static frames
+- `cameras.node_loops`: the loops of a camera node and its /diagnostics
+- `gui.puppet_client`: the GUI's ROS client: services and their answers
+- `gui.state_topics`: the GUI's subscriptions of one arm's state
+- `gui.command_topics`: the GUI's publishers of one arm's commands
+- `gui.camera_client`: the camera pane's ROS client
+
+tests/unit/test_layout.py reads both lists above and holds the tree to them: the imports, and
+the sizes (a ROS adapter at most 150 lines, any other module at most 300, with the exceptions
+that test names and justifies).
 """

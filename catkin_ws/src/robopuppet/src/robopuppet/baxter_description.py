@@ -142,6 +142,31 @@ def _parse_joint(element):
                  axis / np.linalg.norm(axis), lower, upper, velocity, effort, mimic)
 
 
+def parse_urdf(urdf_text, error=DescriptionError):
+    """Return the root element of a URDF's XML text.
+
+    Raises:
+        error: the text is not XML ('robot description is not XML: ...').
+    """
+    try:
+        return ET.fromstring(urdf_text)
+    except ET.ParseError as reason:
+        raise error('robot description is not XML: %s' % reason) from reason
+
+
+def read_urdf(path=URDF_PATH):
+    """Return the text of a URDF file (the source tree's baxter.urdf by default).
+
+    Raises:
+        DescriptionError: the file cannot be read.
+    """
+    try:
+        with open(path) as urdf:
+            return urdf.read()
+    except OSError as error:
+        raise DescriptionError('cannot read robot description %s: %s' % (path, error)) from error
+
+
 class Description:
     """Joints of a robot description, with limits and forward kinematics.
 
@@ -153,10 +178,7 @@ class Description:
     """
 
     def __init__(self, urdf_text):
-        try:
-            root = ET.fromstring(urdf_text)
-        except ET.ParseError as error:
-            raise DescriptionError('robot description is not XML: %s' % error) from error
+        root = parse_urdf(urdf_text)
         self.joints = collections.OrderedDict()
         for element in root.findall('joint'):
             joint = _parse_joint(element)
@@ -264,12 +286,7 @@ def load(path=URDF_PATH):
     Raises:
         DescriptionError: the file cannot be read or is not a usable description.
     """
-    try:
-        with open(path) as urdf:
-            text = urdf.read()
-    except OSError as error:
-        raise DescriptionError('cannot read robot description %s: %s' % (path, error)) from error
-    return Description(text)
+    return Description(read_urdf(path))
 
 
 def arm_limits(side, description=None):

@@ -28,6 +28,17 @@ def puppet_ns(side):
     return '/puppet/arm_%s' % check_side(side)
 
 
+def node_param(node, side, name):
+    """Return a private parameter of one arm's node as the launch files name it, e.g.
+    node_param('arm', 'R', 'comm_rate') -> '/arm_R/comm_rate'."""
+    return '/%s_%s/%s' % (node, check_side(side), name)
+
+
+def ini_file_name(side):
+    """Return the default ini file of one puppet arm (config_X's ~file_name), e.g. 'arm_R.ini'."""
+    return 'arm_%s.ini' % check_side(side)
+
+
 def sim_ns(side):
     """Return the namespace of a simulated puppet's operator topics, e.g. '/puppet_sim/arm_R'."""
     return '/puppet_sim/arm_%s' % check_side(side)
@@ -61,6 +72,9 @@ FEEL_PROFILE = 'feel'   # ArmSettings.profile of feel mode's settings ('': as st
 LINK_PING = 'link_ping'             # robopuppet_msgs/LinkPing from the robot host (arm_X)
 LINK_ECHO = 'link_echo'             # robopuppet_msgs/LinkPing answered by the operator host
 LINK_STATE = 'link_state'           # robopuppet_msgs/LinkState (arm_X)
+# sensor_msgs/JointState: the pose the calibration awaits (the wizard's or calibrate's), shown
+# by the ghost
+CALIBRATION_TARGET = 'calibration_target'
 # Relative to sim_ns(side): the simulated puppet's operator topics (puppet_sim_X), and what it
 # shows of the device for tests and the GUI.
 SIM_HAND, SIM_BUTTON, SIM_GRIPPERS, SIM_CONTROL = 'hand', 'button', 'grippers', 'control'
@@ -69,8 +83,13 @@ SIM_LINE_NOISE = 'line_noise'
 SIM_DEVICE_CONFIG, SIM_DEVICE_OPMODE = 'device_config', 'device_opmode'
 DIAGNOSTICS = '/diagnostics'
 REPLAY_STOP = '/puppet/replay_stop'  # std_msgs/Empty: stop a running replay (the GUI's Stop)
+RECORD_SERVICE = '/puppet/record'        # robopuppet_msgs/Record: start or stop an episode
+RECORDING_TOPIC = '/puppet/recording'    # robopuppet_msgs/RecordingState, latched (recorder)
 # visualization_msgs/MarkerArray, latched (arm_X): the keep-out zones, in Baxter's base frame
 ZONE_MARKERS = '/robopuppet/keepout_zones'
+# visualization_msgs/MarkerArray, latched (each arm_X, in a namespace of its own): the zones
+# holding Baxter's arms back, drawn over in a strong colour
+ZONE_HOLD_MARKERS = '/robopuppet/keepout_zones_holding'
 # visualization_msgs/MarkerArray, latched (sim_cameras): the room the simulated cameras draw (bed,
 # patient), muted, in Baxter's base frame
 ROOM_MARKERS = '/robopuppet/room'
@@ -87,6 +106,33 @@ SET_SUPER_ENABLE = '/robot/set_super_enable'
 SET_SUPER_RESET = '/robot/set_super_reset'
 SET_SUPER_STOP = '/robot/set_super_stop'
 SOFTWARE_VERSION_PARAM = '/rethink/software_version'
+ROBOT_DESCRIPTION_PARAM = '/robot_description'   # the URDF text (robot_state_publisher's)
+DIGITAL_IO_COMMAND = '/robot/digital_io/command'    # baxter_core_msgs/DigitalOutputCommand
+HEAD_PAN_COMMAND = '/robot/head/command_head_pan'   # baxter_core_msgs/HeadPanCommand
+HEAD_NOD_COMMAND = '/robot/head/command_head_nod'   # std_msgs/Bool
+HEAD_STATE = '/robot/head/head_state'               # baxter_core_msgs/HeadState
+# The stand-in's own input (not Baxter's): press a cuff or button (DigitalOutputCommand).
+SIM_DIGITAL_INPUT = '/baxter_sim/digital_input'
+
+
+def digital_io_state_topic(name):
+    """Return the state topic of a digital IO component, e.g. 'left_lower_cuff'."""
+    return '/robot/digital_io/%s/state' % name
+
+
+def navigator_state_topic(location):
+    """Return the state topic of a navigator ('left', 'right', 'torso_left', 'torso_right')."""
+    return '/robot/navigators/%s_navigator/state' % location
+
+
+def analog_io_state_topic(name):
+    """Return the state topic of an analog IO component, e.g. 'left_hand_range'."""
+    return '/robot/analog_io/%s/state' % name
+
+
+def ik_service(side):
+    """Return the name of a Baxter side's IK service (baxter_core_msgs/SolvePositionIK)."""
+    return '/ExternalTools/%s/PositionKinematicsNode/IKService' % side
 
 
 def sim_link_prefix(master_uri, ros_home):
@@ -104,10 +150,30 @@ def limb_topic(side, name):
     return '/robot/limb/%s/%s' % (side, name)
 
 
+CAMERAS_NS = '/cameras'
+CAMERA_IMAGE = 'image'                  # sensor_msgs/Image, raw
+CAMERA_COMPRESSED = 'image/compressed'  # sensor_msgs/CompressedImage, JPEG
+CAMERA_INFO = 'camera_info'             # sensor_msgs/CameraInfo
+
+
 def camera_topic(camera, name):
-    """Return a camera's topic, e.g. camera_topic('right_hand_camera', 'image/compressed') ->
-    '/cameras/right_hand_camera/image/compressed' (name: image, image/compressed, camera_info)."""
-    return '/cameras/%s/%s' % (camera, name)
+    """Return a camera's topic, e.g. camera_topic('right_hand_camera', CAMERA_COMPRESSED) ->
+    '/cameras/right_hand_camera/image/compressed'."""
+    return '%s/%s/%s' % (CAMERAS_NS, camera, name)
+
+
+def camera_of_topic(topic, name):
+    """Return the camera whose `name` topic this is (camera_topic's inverse), or None."""
+    prefix, suffix = CAMERAS_NS + '/', '/' + name
+    if not (topic.startswith(prefix) and topic.endswith(suffix)):
+        return None
+    camera = topic[len(prefix):-len(suffix)]
+    return camera if camera and '/' not in camera else None
+
+
+def hand_camera(side):
+    """Return the camera on a Baxter arm's hand ('left' or 'right'), e.g. 'left_hand_camera'."""
+    return '%s_hand_camera' % side
 
 
 # Baxter's own cameras (Rethink's names) and the room camera a lab adds; the stand-in renders
@@ -136,6 +202,7 @@ END_PIECE_GRIPPER = 3  # the pencil end piece's button: reads ~1 released, ~0 pr
 NUM_BUTTONS = 4
 # what arm_X does with buttons 1..3: 1 cycles the opmode limp -> hold -> feel -> limp
 BUTTON_OPMODE, BUTTON_LEFT, BUTTON_RIGHT = 1, 2, 3
+BUTTON_RECORD = 4   # the recorder's: starts and stops an episode
 
 # ---- teleop states (robopuppet_msgs/TeleopState's constants) ----------------------------------
 TELEOP_STATES = ('no_robot', 'calibrating', 'ready', 'following', 'fault')

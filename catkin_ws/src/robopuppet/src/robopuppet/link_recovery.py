@@ -1,22 +1,12 @@
-"""Subscriptions across the operator-robot link that come back within about a second of the
-link's return (docs/remote.md, "After a cut").
+"""Subscriptions across the operator-robot link that come back within a second of its return.
 
-rospy carries every topic over a TCP connection of its own. While the link is cut, the
-publisher's kernel resends what the subscriber has not acknowledged at intervals that double
-(0.2 s, 0.4 s, ... up to some 25 s after a 30 s cut): after the link returns, nothing arrives
-until the next resend, and every newer message waits behind it. rospy itself never notices.
-
-A LinkRecovery watches the subscriptions of its node whose publishers are never quiet for long
-(the puppet's joint_states, the link's pings and echoes, Baxter's joint_states). When one of
-them has received nothing for SILENT_S after it had received something, the recovery asks the
-publisher's node for its pid over a new connection (a new connection starts without backoff)
-every PROBE_PERIOD_S. When the node answers, the link is back and the old connection is stuck:
-every connection of this node to a publisher on that host is closed and made anew, through
-ROS's own slave API (publisherUpdate, which connects to the publishers not yet connected).
-
-A publisher that went quiet of its own accord answers the probe too; its new connection is not
-watched again until something arrives on it, so a quiet publisher costs one reconnection.
-rospy has no public API for its connections: connections() reads rospy 1.15's topic manager.
+rospy's own take up to 25 s after a long cut (docs/remote.md, "After a cut"). A LinkRecovery
+watches its node's subscriptions to publishers never quiet for long. When one has received
+nothing for SILENT_S after it had received something, it asks the publisher's node for its pid
+over a new connection (one without TCP's backoff) every PROBE_PERIOD_S; once the node answers,
+every connection of this node to a publisher on that host is made anew through ROS's own slave
+API (publisherUpdate); a publisher quiet of its own accord costs one reconnection
+(StuckConnections). connections() reads rospy 1.15's internals: rospy has no public API for them.
 """
 import threading
 import time

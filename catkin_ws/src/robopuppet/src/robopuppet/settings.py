@@ -2,9 +2,9 @@
 
 A setting's index in SETTINGS is its config id on the wire (serial frame 0x30) and its field
 order in the GetConfig response. Its [low, high] is what the puppet's hardware can take (both
-inclusive), and bound_source says where that bound comes from: a value outside it is refused by
-the config node, the GUI and the serial node (implausible(): the one check) and never reaches
-the puppet.
+inclusive), and bound_source says where that bound comes from: a value outside it, or a range
+of a joint that breaks its rule, is refused by the config node, the GUI and the serial node
+(implausible() and range_problems(): the one check of each) and never reaches the puppet.
 """
 import collections
 import math
@@ -105,10 +105,47 @@ def implausible(name, value):
     return ''
 
 
+def range_problems(values, given=None, refused=()):
+    """Return [(min name, max name, why)] for each range of one joint that breaks its rule.
+
+    The rules: a minimum not above its maximum (RANGE_PAIRS), then a range that holds 0
+    (ZERO_RANGES; checked where the minimum is not above the maximum). why reads
+    'angle_min = 1.0: above angle_max = 0.5', 'angle_max = -2.0: below angle_min = -1.571' or
+    'velocity_min..velocity_max = 0.5..6.283: the range must hold 0 (...)'; the caller puts
+    where in front ('joint 2 ').
+
+    Args:
+        values: {name: value} of one joint (every name of the pairs).
+        given: {name: value as given}, shown with repr(); the others are shown as float32 text.
+            A maximum given without its minimum is the one named (below). None: all of values.
+        refused: names refused on their own already: their ranges are not checked.
+    """
+    given = values if given is None else given
+
+    def shown(name):
+        return repr(given[name]) if name in given else format_value(values[name])
+    problems = []
+    for low, high in RANGE_PAIRS:
+        if low in refused or high in refused or values[low] <= values[high]:
+            continue
+        if high in given and low not in given:
+            why = '%s = %s: below %s = %s' % (high, shown(high), low, format_value(values[low]))
+        else:
+            why = '%s = %s: above %s = %s' % (low, shown(low), high, format_value(values[high]))
+        problems.append((low, high, why))
+    for low, high in ZERO_RANGES:
+        if (low in refused or high in refused or values[low] > values[high]
+                or values[low] <= 0.0 <= values[high]):
+            continue
+        problems.append((low, high, "%s..%s = %s..%s: the range must hold 0 (the firmware's angle "
+                         'filter would drift the angle)' % (low, high, format_value(values[low]),
+                                                            format_value(values[high]))))
+    return problems
+
+
 def section(joint):
     """Return the ini section name of a joint, e.g. 'joint_3'."""
     return 'joint_%d' % joint
-
 
 
 # Feel mode's gentle gains: the [feel] section of the arm's ini file. config_X lays them over the

@@ -41,6 +41,11 @@ def top_z(shape):
                            shape.radius if shape.type == 'sphere' else shape.length / 2.0)
 
 
+def label_xyz(shape):
+    """Return where a shape's label goes: one text height above its top."""
+    return shape.xyz[0], shape.xyz[1], top_z(shape) + TEXT_HEIGHT_M
+
+
 def text_marker(ns, index, text, xyz, rgba, height_m=TEXT_HEIGHT_M):
     """Return a text marker facing the viewer at xyz."""
     return Marker(ns=ns, id=index, action=Marker.ADD, type=Marker.TEXT_VIEW_FACING, text=text,

@@ -5,6 +5,8 @@ import time
 import rospy
 from rosgraph_msgs.msg import Log
 
+from waiting import wait_for
+
 
 class Latest:
     """Keep the last message of a topic, and while recording all of them with receive times."""
@@ -46,16 +48,6 @@ def warned(rosout, *words):
     """Return True when rosout (a recording Latest of /rosout) holds a warning of the stand-in
     with all of words."""
     return any(all(w in line for w in words) for line in warnings(rosout.recorded()))
-
-
-def wait_for(test, timeout_s, what):
-    """Wait until test() is true; raise AssertionError naming `what` after timeout_s."""
-    deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline and not rospy.is_shutdown():
-        if test():
-            return
-        time.sleep(0.02)
-    raise AssertionError('timed out after %.1f s waiting for %s' % (timeout_s, what))
 
 
 def publisher(topic, msg_type, queue_size=100):

@@ -13,6 +13,8 @@ from robopuppet import interface, settings
 from robopuppet_msgs.msg import ArmSettings
 from robopuppet_msgs.srv import GetConfig, SetConfig
 
+from waiting import wait_for
+
 FIXTURE = os.path.join(rospkg.RosPack().get_path('robopuppet'),
                        'tests', 'integration', 'fixtures', 'arm_distinct.ini')
 NS = interface.puppet_ns('R')
@@ -21,16 +23,6 @@ SET_SERVICE = '%s/%s' % (NS, interface.SET_CONFIG)
 STORED = '%s/%s' % (NS, interface.STORED_SETTINGS)
 ACTIVE = '%s/%s' % (NS, interface.ACTIVE_SETTINGS)
 LOG_LINE = re.compile(r'^\[rosout\]\[(\w+)\] \S+ \S+: (.*)$')  # the node's own log file
-
-
-def wait_for(predicate, timeout_s=10.0, step_s=0.02):
-    """Poll predicate() until it returns something true or timeout_s passed; return its value."""
-    deadline = time.monotonic() + timeout_s
-    while True:
-        result = predicate()
-        if result or time.monotonic() > deadline:
-            return result
-        time.sleep(step_s)
 
 
 def joint_values(joint_settings):
@@ -115,6 +107,7 @@ class ConfigNodeRunner:
     def wait_log(self, level, text):
         """Return the messages of `level` ('INFO', 'WARNING', 'ERROR') that contain text, once
         there is one; fail when none came within 10 s."""
-        found = wait_for(lambda: [msg for lvl, msg in self.logs() if lvl == level and text in msg])
+        found = wait_for(lambda: [msg for lvl, msg in self.logs()
+                                  if lvl == level and text in msg], 10.0)
         self.assertTrue(found, 'no log %r in %r' % (text, self.logs()))
         return found

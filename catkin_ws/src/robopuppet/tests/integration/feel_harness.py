@@ -9,7 +9,8 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32MultiArray, String
 
 from robopuppet import interface, settings
-from teleop_harness import max_error, wait_for
+from teleop_harness import max_error
+from waiting import wait_for
 
 SILENT = 'no joint states from the puppet'   # arm_R's fault when the puppet falls silent
 

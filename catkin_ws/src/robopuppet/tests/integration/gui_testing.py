@@ -1,12 +1,12 @@
 """Helpers for the GUI's rostest scripts: an offscreen Qt application and waiting with Qt."""
 import os
-import time
 
 os.environ.setdefault('QT_QPA_PLATFORM', 'offscreen')
 
 from PyQt5 import QtWidgets  # noqa: E402
 
 import robopuppet.gui  # noqa: E402,F401  (selects PyQt5 for pyqtgraph)
+from waiting import wait_for  # noqa: E402
 
 
 _APP = []  # keeps the QApplication alive for the whole process
@@ -22,13 +22,11 @@ def application():
 def wait_until(predicate, timeout_s, step_s=0.02):
     """Process Qt events until predicate() is true; return its last value."""
     app = application()
-    end_s = time.monotonic() + timeout_s
-    while True:
+
+    def pumped():
         app.processEvents()
-        result = predicate()
-        if result or time.monotonic() > end_s:
-            return result
-        time.sleep(step_s)
+        return predicate()
+    return wait_for(pumped, timeout_s, step_s=step_s)
 
 
 def wait_for_subscribers(publishers, timeout_s=10.0):

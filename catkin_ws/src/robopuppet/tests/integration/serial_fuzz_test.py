@@ -17,7 +17,8 @@ from std_msgs.msg import Empty, Float32, UInt8
 
 from robopuppet import interface, settings
 from robopuppet.protocol import codec
-from serial_test_support import ActiveSettings, seed_values, topic, wait_for
+from serial_test_support import ActiveSettings, seed_values, topic
+from waiting import wait_for
 
 RATE_HZ = 100.0  # state sets, time-compressed (the firmware's 10 Hz would take too long)
 HEARTBEAT_EVERY = 100  # sets: one heartbeat a second, as the firmware sends
@@ -81,7 +82,7 @@ class SerialFuzzTest(unittest.TestCase):
         cls.launch.start()
         cls.serial = cls.launch.launch(Node(
             'robopuppet', 'serial_interface', name='serial_L', namespace='/',
-            args='_arm_side:=L _port_name:=%s' % os.ttyname(cls.slave)))
+            args='_arm_side:=L _port_name:=%s _comm_rate:=%s' % (os.ttyname(cls.slave), RATE_HZ)))
 
     @classmethod
     def tearDownClass(cls):
@@ -147,8 +148,8 @@ class SerialFuzzTest(unittest.TestCase):
             seq += 1
             time.sleep(period)
         sent = range(first, seq)
-        self.assertIsNotNone(wait_for(lambda: seq - 1 in self.received(), 5.0),
-                             'the last clean set never arrived')
+        self.assertTrue(wait_for(lambda: seq - 1 in self.received(), 5.0),
+                        'the last clean set never arrived')
         received = self.received()
         with self.lock:
             states, grippers = list(self.states), list(self.grippers)

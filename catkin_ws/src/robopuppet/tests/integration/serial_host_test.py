@@ -13,7 +13,8 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32, String
 
 from robopuppet import interface, settings
-from serial_test_support import SIM, ActiveSettings, Watcher, index, seed_values, topic, wait_for
+from serial_test_support import SIM, ActiveSettings, Watcher, index, seed_values, topic
+from waiting import wait_for
 
 RATE_HZ = 50.0
 HALL_REVERSED = 1  # joint 1: absolute encoder, sign_angle -1 and home_angle -0.125 in the ini
@@ -72,9 +73,9 @@ class SerialHostTest(unittest.TestCase):
     def wait_loaded(self, since_s, seed=None, timeout_s=20.0):
         """Wait until the device holds the settings and joint states flow again."""
         seed = self.seed if seed is None else seed
-        self.assertIsNotNone(wait_for(lambda: self.watch.device_config == seed, timeout_s),
-                             'device holds %s, ini has %s' % (self.watch.device_config, seed))
-        self.assertIsNotNone(wait_for(lambda: len(self.watch.states_since(since_s)) >= 10,
+        self.assertTrue(wait_for(lambda: self.watch.device_config == seed, timeout_s),
+                        'device holds %s, ini has %s' % (self.watch.device_config, seed))
+        self.assertTrue(wait_for(lambda: len(self.watch.states_since(since_s)) >= 10,
                                       10.0), 'no joint states after the load')
 
     def angle(self, joint, since_s):
@@ -84,7 +85,7 @@ class SerialHostTest(unittest.TestCase):
             states = self.watch.states_since(since_s)[-10:]
             angles = [s.position[joint] for s in states]
             return len(angles) == 10 and max(angles) - min(angles) < 0.002
-        self.assertIsNotNone(wait_for(steady, 10.0), 'joint %d never steady' % joint)
+        self.assertTrue(wait_for(steady, 10.0), 'joint %d never steady' % joint)
         states = self.watch.states_since(since_s)[-10:]
         return sum(s.position[joint] for s in states) / len(states)
 
@@ -92,7 +93,7 @@ class SerialHostTest(unittest.TestCase):
         """Restart serial_L (a second full load into the same device); return the angle."""
         restarted = time.monotonic()
         self.start_serial()
-        self.assertIsNotNone(wait_for(
+        self.assertTrue(wait_for(
             lambda: self.watch.diagnostics.get('settings loaded') == 'True', 20.0))
         self.wait_loaded(restarted, seed)
         return self.angle(HALL_REVERSED, restarted)
@@ -115,21 +116,21 @@ class SerialHostTest(unittest.TestCase):
         after_change = self.angle(HALL_REVERSED, time.monotonic())  # sets made after the change
         self.assertAlmostEqual(after_change, self.restart_serial_and_angle(seed), delta=0.01)
         self.stored.publish(self.seed)  # back to the ini's values for the tests that follow
-        self.assertIsNotNone(wait_for(lambda: self.watch.device_config == self.seed, 10.0))
+        self.assertTrue(wait_for(lambda: self.watch.device_config == self.seed, 10.0))
 
     def hold_ticks(self, count=50):
         """Return `count` control ticks in hold, from the device's going to hold on."""
-        self.assertIsNotNone(wait_for(lambda: self.watch.device_opmode == interface.HOLD, 5.0))
+        self.assertTrue(wait_for(lambda: self.watch.device_opmode == interface.HOLD, 5.0))
         start = len(self.ticks)
-        self.assertIsNotNone(wait_for(lambda: len(self.ticks) >= start + count, 10.0),
-                             'no control ticks on %s/control' % SIM)
+        self.assertTrue(wait_for(lambda: len(self.ticks) >= start + count, 10.0),
+                        'no control ticks on %s/control' % SIM)
         return list(self.ticks[start:])
 
     def go_limp(self):
         self.pub_opmode.publish(String(interface.LIMP))
-        self.assertIsNotNone(wait_for(lambda: self.watch.device_opmode == interface.LIMP, 5.0))
+        self.assertTrue(wait_for(lambda: self.watch.device_opmode == interface.LIMP, 5.0))
         limp = time.monotonic()  # a few sets since: the angles where the limp arm is now
-        self.assertIsNotNone(wait_for(lambda: len(self.watch.states_since(limp)) >= 5, 5.0))
+        self.assertTrue(wait_for(lambda: len(self.watch.states_since(limp)) >= 5, 5.0))
 
     def assert_no_zero_setpoint_away_from_zero(self, ticks):
         for tick in ticks:
@@ -153,7 +154,7 @@ class SerialHostTest(unittest.TestCase):
         self.pub_opmode.publish(String(interface.HOLD))
         for joint, value in enumerate(wanted):
             self.pub_setpoint[joint].publish(Float32(value + 0.02))
-        self.assertIsNotNone(wait_for(lambda: self.ticks and all(
+        self.assertTrue(wait_for(lambda: self.ticks and all(
             abs(s - (w + 0.02)) < 1e-4 for s, w in zip(self.ticks[-1].position, wanted)), 5.0))
         self.assert_no_zero_setpoint_away_from_zero(self.hold_ticks(25))
         self.go_limp()
@@ -162,7 +163,7 @@ class SerialHostTest(unittest.TestCase):
         self.wait_loaded(0.0)
         self.stored.stop()  # config_X exits (or hangs: serial_L asks it nothing)
         try:
-            self.assertIsNotNone(wait_for(lambda: (
+            self.assertTrue(wait_for(lambda: (
                 self.watch.diagnostics.get('active settings publishers'),
                 self.watch.diagnostics.get('level')) == ('0', 1), 10.0), self.watch.diagnostics)
             self.assertIn('nothing publishes', self.watch.diagnostics['message'])
@@ -172,22 +173,22 @@ class SerialHostTest(unittest.TestCase):
             rospy.loginfo('settings loaded %.2f s after the replug, config_X gone',
                           time.monotonic() - replugged)
             # Loaded, but setting changes cannot come: a warning, not OK.
-            self.assertIsNotNone(wait_for(lambda: 'nothing publishes' in self.watch.diagnostics.get(
+            self.assertTrue(wait_for(lambda: 'nothing publishes' in self.watch.diagnostics.get(
                 'message', ''), 5.0), self.watch.diagnostics)
         finally:
             type(self).stored = ActiveSettings()
             self.stored.publish(self.seed)
-        self.assertIsNotNone(wait_for(lambda: self.watch.diagnostics.get('level') == 0, 10.0),
-                             self.watch.diagnostics)
+        self.assertTrue(wait_for(lambda: self.watch.diagnostics.get('level') == 0, 10.0),
+                        self.watch.diagnostics)
 
     def test_6_a_comm_rate_that_differs_from_the_measured_rate_is_reported(self):
         self.wait_loaded(0.0)
         self.start_serial(comm_rate_hz=10.0)  # the device sends 50 Hz
-        self.assertIsNotNone(wait_for(
+        self.assertTrue(wait_for(
             lambda: 'comm_rate' in self.watch.diagnostics.get('message', ''), 20.0),
             self.watch.diagnostics)
         self.assertEqual(self.watch.diagnostics['level'], 1)
-        self.assertIsNotNone(wait_for(lambda: self.watch.warnings_with('comm_rate is 10.0 Hz'),
+        self.assertTrue(wait_for(lambda: self.watch.warnings_with('comm_rate is 10.0 Hz'),
                                       5.0))
         self.start_serial()
 

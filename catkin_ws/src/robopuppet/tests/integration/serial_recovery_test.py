@@ -10,7 +10,8 @@ import rospy
 import rostest
 from roslaunch.core import Node
 
-from serial_test_support import ActiveSettings, Watcher, seed_values, wait_for
+from serial_test_support import ActiveSettings, Watcher, seed_values
+from waiting import seconds_until, wait_for
 
 RECOVERY_LIMIT_S = 2.0
 
@@ -31,7 +32,7 @@ class SerialRecoveryTest(unittest.TestCase):
         cls.watch.listen()  # serial_L's first warning must be heard
         cls.serial = cls.launch.launch(Node(
             'robopuppet', 'serial_interface', name='serial_L', namespace='/',
-            args='_arm_side:=L _port_name:=%s' % cls.link))
+            args='_arm_side:=L _port_name:=%s _comm_rate:=50.0' % cls.link))
 
     @classmethod
     def tearDownClass(cls):
@@ -48,15 +49,15 @@ class SerialRecoveryTest(unittest.TestCase):
         node = Node('robopuppet', 'puppet_sim', name='puppet_sim_L', namespace='/',
                     args='_arm_side:=L _state_rate:=50.0 _port_link:=%s' % self.link)
         type(self).sim = self.launch.launch(node)
-        self.assertIsNotNone(wait_for(lambda: os.path.lexists(self.link), 20.0, 0.005),
-                             'puppet_sim did not create %s' % self.link)
+        self.assertTrue(wait_for(lambda: os.path.lexists(self.link), 20.0, 0.005),
+                        'puppet_sim did not create %s' % self.link)
         appeared = time.monotonic()
 
         def recovered():
             with self.watch.lock:
                 loaded = self.watch.device_config == self.seed
             return loaded and len(self.watch.states_since(appeared)) >= 3
-        if wait_for(recovered, 10.0, 0.01) is None:
+        if seconds_until(recovered, 10.0, 0.01) is None:
             return None
         took = time.monotonic() - appeared
         rospy.loginfo('serial_L recovered %.2f s after the port appeared', took)
@@ -66,12 +67,12 @@ class SerialRecoveryTest(unittest.TestCase):
         """Wait until serial_L has said 'link down' in this many more statuses (1 Hz): it kept
         retrying the port (every 0.5 s) all that time."""
         since = time.monotonic()
-        self.assertIsNotNone(wait_for(lambda: self.watch.diagnostics_since(since) >= statuses
+        self.assertTrue(wait_for(lambda: self.watch.diagnostics_since(since) >= statuses
                                       and self.watch.diagnostics.get('link') == 'down',
                                       statuses + 5.0), self.watch.diagnostics)
 
     def test_1_missing_port_is_logged_once_then_found(self):
-        self.assertIsNotNone(wait_for(
+        self.assertTrue(wait_for(
             lambda: self.watch.warnings_with('cannot open serial port'), 10.0))
         self.wait_link_down_for(3)
         self.assertEqual(len(self.watch.warnings_with('cannot open serial port')), 1,
@@ -79,15 +80,15 @@ class SerialRecoveryTest(unittest.TestCase):
         took = self.start_sim()
         self.assertIsNotNone(took, 'serial_L never loaded the settings')
         self.assertLess(took, RECOVERY_LIMIT_S)
-        self.assertIsNotNone(wait_for(lambda: self.watch.diagnostics.get('link') == 'up', 3.0))
+        self.assertTrue(wait_for(lambda: self.watch.diagnostics.get('link') == 'up', 3.0))
 
     def test_2_unplug_and_replug(self):
-        self.assertIsNotNone(wait_for(lambda: self.watch.device_config == self.seed, 10.0))
+        self.assertTrue(wait_for(lambda: self.watch.device_config == self.seed, 10.0))
         lost_before = len(self.watch.warnings_with('lost'))
         self.sim.stop()
         type(self).sim = None
         self.assertFalse(os.path.lexists(self.link))
-        self.assertIsNotNone(wait_for(
+        self.assertTrue(wait_for(
             lambda: len(self.watch.warnings_with('lost')) == lost_before + 1, 5.0))
         self.wait_link_down_for(3)
         self.assertEqual(len(self.watch.warnings_with('lost')), lost_before + 1,
@@ -99,14 +100,14 @@ class SerialRecoveryTest(unittest.TestCase):
         self.assertLess(took, RECOVERY_LIMIT_S)
 
     def test_3_silent_device(self):
-        self.assertIsNotNone(wait_for(lambda: self.watch.device_config == self.seed, 10.0))
+        self.assertTrue(wait_for(lambda: self.watch.device_config == self.seed, 10.0))
         pid = self.sim.get_info()['pid']
         os.kill(pid, signal.SIGSTOP)  # the device stops talking; its port stays
         try:
-            self.assertIsNotNone(wait_for(lambda: self.watch.warnings_with('no frame from'), 6.0))
+            self.assertTrue(wait_for(lambda: self.watch.warnings_with('no frame from'), 6.0))
             # It re-opens the port every second: three more re-opens, one warning.
             reopens = int(self.watch.diagnostics['connects'])
-            self.assertIsNotNone(wait_for(
+            self.assertTrue(wait_for(
                 lambda: int(self.watch.diagnostics['connects']) >= reopens + 3, 8.0),
                 self.watch.diagnostics)
             self.assertEqual(len(self.watch.warnings_with('no frame from')), 1,
@@ -117,9 +118,9 @@ class SerialRecoveryTest(unittest.TestCase):
         finally:
             os.kill(pid, signal.SIGCONT)
         resumed = time.monotonic()
-        self.assertIsNotNone(wait_for(lambda: len(self.watch.states_since(resumed)) >= 3, 5.0))
+        self.assertTrue(wait_for(lambda: len(self.watch.states_since(resumed)) >= 3, 5.0))
         # Reloaded (the device may have restarted), and healthy again.
-        self.assertIsNotNone(wait_for(
+        self.assertTrue(wait_for(
             lambda: self.watch.diagnostics['settings loaded'] == 'True'
             and self.watch.diagnostics['level'] == 0, 5.0), self.watch.diagnostics)
 

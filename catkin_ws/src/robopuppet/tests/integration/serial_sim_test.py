@@ -21,7 +21,8 @@ from robopuppet.config import feel_profile
 from robopuppet.protocol import codec
 from robopuppet.puppet_sim.puppet_arm import REST_POSE_RAD, wrap
 from serial_test_support import (PER_JOINT, SIM, ActiveSettings, TempConfig,
-                                 Watcher, index, seed_values, topic, wait_for)
+                                 Watcher, index, seed_values, topic)
+from waiting import seconds_until, wait_for
 
 # A hand pose that takes every quadrature joint across its index mark from the rest pose.
 HAND_RAD = (-0.4, 0.3, 0.3, 0.6, -0.2, -0.5, 0.25)
@@ -56,7 +57,7 @@ class SerialSimTest(unittest.TestCase):
         cls.watch.listen()  # serial_L's first warnings must be heard
         cls.serial = cls.launch.launch(Node(
             'robopuppet', 'serial_interface', name='serial_L', namespace='/',
-            args='_arm_side:=L _port_name:=%s' % rospy.get_param('~link')))
+            args='_arm_side:=L _port_name:=%s _comm_rate:=50.0' % rospy.get_param('~link')))
         cls.pub_hand = rospy.Publisher(topic(interface.SIM_HAND, SIM), JointState, queue_size=1,
                                        latch=True)
         cls.pub_button = rospy.Publisher(topic(interface.SIM_BUTTON, SIM), UInt8, queue_size=1,
@@ -86,16 +87,16 @@ class SerialSimTest(unittest.TestCase):
             return self.watch.device_config
 
     def wait_device_holds(self, values, timeout_s=20.0):
-        self.assertIsNotNone(wait_for(lambda: self.device_config() == values, timeout_s),
-                             'device holds %s, expected %s' % (self.device_config(), values))
+        self.assertTrue(wait_for(lambda: self.device_config() == values, timeout_s),
+                        'device holds %s, expected %s' % (self.device_config(), values))
 
     def steady_angle(self, joint, since_s):
         """Wait until a joint's angle is steady over 10 sets since since_s; return their mean."""
         def angles():
             return [s.position[joint] for s in self.watch.states_since(since_s)[-10:]]
-        self.assertIsNotNone(wait_for(lambda: len(angles()) == 10
+        self.assertTrue(wait_for(lambda: len(angles()) == 10
                                       and max(angles()) - min(angles()) < 0.002, 10.0),
-                             'joint %d never steady' % joint)
+                        'joint %d never steady' % joint)
         return sum(angles()) / 10
 
     def test_1_no_joint_states_until_settings_loaded_then_84_settings_and_limp(self):
@@ -104,7 +105,7 @@ class SerialSimTest(unittest.TestCase):
         # 0 rad). With seven setpoints it is passed on (setpoints and opmode travel on separate
         # topics, so ask again until the device holds).
         self.pub_opmode.publish(String(interface.HOLD))
-        self.assertIsNotNone(wait_for(lambda: self.watch.warnings_with('hold refused'), 5.0))
+        self.assertTrue(wait_for(lambda: self.watch.warnings_with('hold refused'), 5.0))
         setpoints = [rospy.Publisher(interface.joint_topic('L', j, 'setpoint'), Float32,
                                      queue_size=1, latch=True) for j in settings.JOINTS]
         for pub in setpoints:
@@ -112,17 +113,19 @@ class SerialSimTest(unittest.TestCase):
 
         def hold():
             self.pub_opmode.publish(String(interface.HOLD))
-            return wait_for(lambda: self.watch.device_opmode == interface.HOLD, 0.5)
-        self.assertIsNotNone(wait_for(hold, 10.0))
-        self.assertIsNotNone(wait_for(lambda: 'waiting for settings' in self.watch.diagnostics.get(
+            return seconds_until(lambda: self.watch.device_opmode == interface.HOLD, 0.5)
+        self.assertTrue(wait_for(hold, 10.0))
+        self.assertTrue(wait_for(lambda: 'waiting for settings' in self.watch.diagnostics.get(
             'message', ''), 5.0), self.watch.diagnostics)
         # About 100 state sets (50 Hz) go through, seen on gripper_0, but no joint topic.
         counted = len(self.grippers)
-        self.assertIsNotNone(wait_for(lambda: len(self.grippers) >= counted + 100, 10.0))
+        self.assertTrue(wait_for(lambda: len(self.grippers) >= counted + 100, 10.0))
         self.assertEqual(self.watch.states_since(0.0), [], 'joint_states before the settings')
         self.assertEqual(self.joint_topics, [], 'joint_3 topics before the settings')
-        self.assertEqual(len(self.watch.warnings_with('publishing no joint states')), 1,
-                         self.watch.warnings)
+        # Said once, not repeated (the first line may go out before this test's /rosout
+        # subscription reaches serial_L, and /rosout keeps nothing for a late subscriber).
+        self.assertLessEqual(len(self.watch.warnings_with('publishing no joint states')), 1,
+                             self.watch.warnings)
         self.assertEqual((self.watch.diagnostics['settings loaded'],
                           self.watch.diagnostics['active settings']), ('False', 'none yet'))
         started = time.monotonic()
@@ -130,12 +133,12 @@ class SerialSimTest(unittest.TestCase):
         self.wait_device_holds(self.seed)
         self.assertEqual(len(self.seed), 84)
         # The load ends with limp: the device left the hold it was put in above.
-        self.assertIsNotNone(wait_for(lambda: self.watch.device_opmode == interface.LIMP, 5.0))
+        self.assertTrue(wait_for(lambda: self.watch.device_opmode == interface.LIMP, 5.0))
         self.assertEqual(self.watch.device_opmodes[-2:], [interface.HOLD, interface.LIMP])
-        self.assertIsNotNone(wait_for(lambda: len(self.watch.states_since(started)) >= 10, 5.0))
-        self.assertIsNotNone(wait_for(lambda: {t for _, t in self.joint_topics}
+        self.assertTrue(wait_for(lambda: len(self.watch.states_since(started)) >= 10, 5.0))
+        self.assertTrue(wait_for(lambda: {t for _, t in self.joint_topics}
                                       == {'angle', 'voltage', 'enc_stat'}, 5.0))
-        self.assertIsNotNone(wait_for(lambda: (
+        self.assertTrue(wait_for(lambda: (
             self.watch.diagnostics.get('settings loaded'),
             self.watch.diagnostics.get('active settings'),
             self.watch.diagnostics.get('active settings publishers'))
@@ -148,11 +151,11 @@ class SerialSimTest(unittest.TestCase):
         # The firmware's formula, signs sent before home: sign x wrap(raw - home x sign).
         rest = [wrap(s * a - h) for h, s, a in zip(home, sign, REST_POSE_RAD)]
         # Absolute encoders report the rest pose as soon as the settings are in (rate-limited).
-        self.assertIsNotNone(wait_for(lambda: close(
+        self.assertTrue(wait_for(lambda: close(
             [self.position()[j] for j in ABSOLUTE], [rest[j] for j in ABSOLUTE], 0.05), 5.0))
         self.pub_hand.publish(JointState(name=settings.JOINT_NAMES, position=HAND_RAD))
         expected = [wrap(s * a - h) for h, s, a in zip(home, sign, HAND_RAD)]
-        took = wait_for(lambda: close(self.position(), expected, 0.05), 10.0)
+        took = seconds_until(lambda: close(self.position(), expected, 0.05), 10.0)
         self.assertIsNotNone(took, 'joint_states %s, expected %s'
                              % (self.position(), expected))
         for joint in settings.JOINTS:
@@ -162,9 +165,9 @@ class SerialSimTest(unittest.TestCase):
         self.assertAlmostEqual(angle, expected[4], delta=0.05)
         self.pub_button.publish(UInt8(3))
         self.pub_grippers.publish(Float32MultiArray(data=[0.25, 0.5, 0.75, 0.0]))
-        self.assertIsNotNone(wait_for(lambda: rospy.wait_for_message(
+        self.assertTrue(wait_for(lambda: rospy.wait_for_message(
             topic(interface.USER_BUTTON), UInt8, 5.0).data == 3, 5.0))
-        self.assertIsNotNone(wait_for(lambda: rospy.wait_for_message(
+        self.assertTrue(wait_for(lambda: rospy.wait_for_message(
             interface.gripper_topic('L', 3), Float32, 5.0).data == 0.0, 5.0))
         self.assertEqual(rospy.wait_for_message(interface.gripper_topic('L', 1), Float32,
                                                 5.0).data, 0.5)
@@ -179,7 +182,7 @@ class SerialSimTest(unittest.TestCase):
         values[index(joint, 'home_angle')] += HOME_STEP_RAD
         changed = time.monotonic()
         self.stored.publish(values)
-        took = wait_for(lambda: abs(self.position()[joint] - (before - HOME_STEP_RAD)) < 0.01,
+        took = seconds_until(lambda: abs(self.position()[joint] - (before - HOME_STEP_RAD)) < 0.01,
                         5.0, 0.002)
         self.assertIsNotNone(took, 'joint %d at %.3f rad, expected %.3f' % (
             joint, self.position()[joint], before - HOME_STEP_RAD))
@@ -199,22 +202,22 @@ class SerialSimTest(unittest.TestCase):
     def test_4_opmode_and_setpoints_are_forwarded(self):
         self.wait_device_holds(self.seed)
         self.pub_opmode.publish(String(interface.HOLD))
-        self.assertIsNotNone(wait_for(lambda: self.watch.device_opmode == interface.HOLD, 5.0))
+        self.assertTrue(wait_for(lambda: self.watch.device_opmode == interface.HOLD, 5.0))
         # Let go of joint 5: in hold the device drives it to its setpoint.
         setpoint = rospy.Publisher(interface.joint_topic('L', 5, 'setpoint'), Float32,
                                    queue_size=1, latch=True)
-        self.assertIsNotNone(wait_for(lambda: setpoint.get_num_connections() >= 1, 5.0))
+        self.assertTrue(wait_for(lambda: setpoint.get_num_connections() >= 1, 5.0))
         setpoint.publish(Float32(0.2))
         self.pub_hand.publish(JointState(name=settings.JOINT_NAMES,
                                          position=HAND_RAD[:5] + (math.nan,) + HAND_RAD[6:]))
-        self.assertIsNotNone(wait_for(
+        self.assertTrue(wait_for(
             lambda: abs(self.position()[5] - 0.2) < 0.1, 10.0),
             'joint 5 at %s, setpoint 0.2' % self.position()[5])
         self.pub_opmode.publish(String(interface.LIMP))
-        self.assertIsNotNone(wait_for(lambda: self.watch.device_opmode == interface.LIMP, 5.0))
+        self.assertTrue(wait_for(lambda: self.watch.device_opmode == interface.LIMP, 5.0))
 
     def test_5_garbage_bursts_lose_no_later_frame(self):
-        self.assertIsNotNone(wait_for(lambda: 'incomplete joint sets' in self.watch.diagnostics,
+        self.assertTrue(wait_for(lambda: 'incomplete joint sets' in self.watch.diagnostics,
                                       10.0))
         before = dict(self.watch.diagnostics)
         truncated = codec.encode(codec.JointState(2, 0, 0.5, 0.5))[:7]
@@ -228,10 +231,10 @@ class SerialSimTest(unittest.TestCase):
             sent = time.monotonic()
             self.pub_noise.publish(UInt8MultiArray(data=burst + gap))
             # The simulator puts it on the line before the next set: wait for two sets.
-            self.assertIsNotNone(wait_for(lambda: len(self.watch.states_since(sent)) >= 2, 5.0))
+            self.assertTrue(wait_for(lambda: len(self.watch.states_since(sent)) >= 2, 5.0))
         # A status made after the last burst went through covers all of them.
         done = time.monotonic()
-        self.assertIsNotNone(wait_for(lambda: self.watch.diagnostics_since(done) >= 2, 5.0))
+        self.assertTrue(wait_for(lambda: self.watch.diagnostics_since(done) >= 2, 5.0))
         after = dict(self.watch.diagnostics)
         self.assertGreaterEqual(int(after['dropped bytes']), int(before['dropped bytes']) + 42)
         self.assertEqual(after['incomplete joint sets'], before['incomplete joint sets'],
@@ -245,7 +248,7 @@ class SerialSimTest(unittest.TestCase):
         self.stored.stop()  # config_X takes over active_settings
         config = TempConfig(self.launch, self.seed_file)
         try:
-            self.assertIsNotNone(wait_for(
+            self.assertTrue(wait_for(
                 lambda: self.watch.diagnostics.get('active settings') == 'revision 0', 20.0),
                 self.watch.diagnostics)
             self.wait_device_holds(self.seed)
@@ -253,7 +256,7 @@ class SerialSimTest(unittest.TestCase):
             # stores does.
             angle_min = rospy.Publisher(interface.joint_topic('L', 2, 'angle_min'), Float32,
                                         queue_size=10)
-            self.assertIsNotNone(wait_for(lambda: angle_min.get_num_connections() >= 1, 5.0))
+            self.assertTrue(wait_for(lambda: angle_min.get_num_connections() >= 1, 5.0))
             angle_min.publish(Float32(3.0))  # above angle_max: refused
             angle_min.publish(Float32(-1.25))  # on the same topic: stored after
             values = list(self.seed)
@@ -280,7 +283,7 @@ class SerialSimTest(unittest.TestCase):
         def serial_said_limp():
             return ('/serial_L', interface.LIMP) in announced
         try:
-            self.assertIsNotNone(wait_for(
+            self.assertTrue(wait_for(
                 lambda: self.watch.diagnostics.get('active settings') == 'revision 0', 20.0),
                 self.watch.diagnostics)
             self.wait_device_holds(self.seed)
@@ -302,14 +305,14 @@ class SerialSimTest(unittest.TestCase):
             self.pub_opmode.publish(String(interface.FEEL))
             self.wait_device_holds(gentle, 10.0)
             last_s = streamer.stop()  # arm_X dies
-            self.assertIsNotNone(wait_for(lambda: self.watch.device_opmode == interface.LIMP,
+            self.assertTrue(wait_for(lambda: self.watch.device_opmode == interface.LIMP,
                                           5.0), 'no limp after the setpoints stopped')
             took_s = time.monotonic() - last_s
             rospy.loginfo('serial_sim: the device went limp %.2f s after the last setpoint '
                           '(~feel_setpoint_timeout 0.5 s)', took_s)
             self.assertGreaterEqual(took_s, 0.45)
             self.assertLess(took_s, 2.5)  # 0.5 s plus a loaded machine's delays
-            self.assertIsNotNone(wait_for(serial_said_limp, 5.0), announced)
+            self.assertTrue(wait_for(serial_said_limp, 5.0), announced)
             self.assertTrue(self.watch.warnings_with('no joint setpoint for'), self.watch.warnings)
             self.wait_device_holds(self.seed, 10.0)  # config_X heard the limp too
         finally:
@@ -331,7 +334,7 @@ class SetpointStreamer:
         self._stop.clear()
         self._thread = threading.Thread(target=self._run, args=(position,), daemon=True)
         self._thread.start()
-        assert wait_for(lambda: self.last_s is not None, 5.0) is not None
+        assert wait_for(lambda: self.last_s is not None, 5.0)
 
     def _run(self, position):
         while not self._stop.wait(0.05):

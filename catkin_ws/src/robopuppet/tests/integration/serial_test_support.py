@@ -5,6 +5,7 @@ import tempfile
 import threading
 import time
 
+import rosgraph
 import rospy
 from diagnostic_msgs.msg import DiagnosticArray
 from roslaunch.core import Node
@@ -15,6 +16,8 @@ from std_msgs.msg import Float32MultiArray, String
 from robopuppet import interface, settings
 from robopuppet.config import config_store
 from robopuppet_msgs.msg import ArmSettings, JointSettings
+
+from waiting import wait_for
 
 SIM = interface.sim_ns('L')
 NS = interface.puppet_ns('L')
@@ -75,20 +78,15 @@ class TempConfig:
         self.process = launch.launch(Node(
             'robopuppet', 'config', name='config_L', namespace='/',
             args='_arm_side:=L _file_name:=%s _seed_file:=%s' % (self.path, seed_file)))
+        # Serving and listening to opmode: an opmode published from now on reaches this node.
+        rospy.wait_for_service('%s/%s' % (NS, interface.GET_CONFIG), timeout=30.0)
+        wait_for(lambda: any(t == '%s/%s' % (NS, interface.OPMODE) and '/config_L' in nodes
+                             for t, nodes in rosgraph.Master('/serial_test').getSystemState()[1]),
+                 30.0, 'config_L subscribed to opmode')
 
     def stop(self):
         self.process.stop()
         shutil.rmtree(self.dir, ignore_errors=True)
-
-
-def wait_for(predicate, timeout_s, step_s=0.02):
-    """Poll predicate until it is true; return the seconds it took, or None on timeout."""
-    start = time.monotonic()
-    while time.monotonic() - start < timeout_s and not rospy.is_shutdown():
-        if predicate():
-            return time.monotonic() - start
-        time.sleep(step_s)
-    return None
 
 
 def is_serial_link_status(status):
@@ -126,8 +124,8 @@ class Watcher:
         """Return once /rosout lines reach this watcher (log until its own line comes back)."""
         def heard():
             rospy.loginfo('%s: listening to /rosout', rospy.get_name())
-            return wait_for(lambda: self.own_logs, 0.5) is not None
-        assert wait_for(heard, 10.0) is not None, 'no /rosout line came back'
+            return wait_for(lambda: self.own_logs, 0.5)
+        assert wait_for(heard, 10.0), 'no /rosout line came back'
 
     def _on_config(self, msg):
         with self.lock:

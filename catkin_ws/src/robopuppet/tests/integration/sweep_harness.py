@@ -22,7 +22,8 @@ from robopuppet.arm import zone_topics
 from robopuppet.arm.joint_motion import clamp, in_puppet_space
 from robopuppet.puppet_sim.puppet_arm import HAND_SPEED_RADPS
 
-from teleop_harness import calibrate, max_error, wait_for
+from teleop_harness import calibrate, max_error
+from waiting import wait_for
 
 SWEEP_RAD = 1.5          # poses within +-this: the puppet's angle limits are +-1.571 (arm_X.ini)
 REACHED_RAD = 0.05       # the puppet reports every joint this near the pose: next pose

@@ -22,22 +22,14 @@ from std_msgs.msg import Float32MultiArray, String, UInt8
 from robopuppet import baxter_description, interface, settings
 from robopuppet_msgs.msg import TeleopState
 
+from waiting import wait_for
+
 RELEASED = [1.0 if g == interface.END_PIECE_GRIPPER else 0.0   # the end-piece button released
             for g in range(interface.NUM_GRIPPERS)]
 PRESSED = [0.0] * interface.NUM_GRIPPERS
 QUAD_JOINTS = (0, 2, 4, 6)
 STILL_RAD = 1e-3   # a puppet whose angles change less than this over STILL_SETS sets is still
 STILL_SETS = 3
-
-
-def wait_for(condition, timeout_s, what):
-    """Wait until condition() is true; raise AssertionError naming `what` after timeout_s."""
-    deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline:
-        if condition():
-            return
-        time.sleep(0.05)
-    raise AssertionError('timed out after %.0f s waiting for %s' % (timeout_s, what))
 
 
 def max_error(a, b):

@@ -17,7 +17,8 @@ from diagnostic_msgs.msg import DiagnosticStatus
 
 from robopuppet import interface
 from hand_pose import HAND_POSE
-from teleop_harness import Baxter, PuppetArm, calibrate, max_error, node_pid, wait_for
+from teleop_harness import Baxter, PuppetArm, calibrate, max_error, node_pid
+from waiting import wait_for
 
 STEADY_SETS = 12  # 6 s of state sets at 2 Hz
 

@@ -15,7 +15,8 @@ from baxter_core_msgs.msg import AssemblyState, JointCommand
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool
 
-from baxter_sim_testing import Latest, publisher, wait_for
+from baxter_sim_testing import Latest, publisher
+from waiting import wait_for
 from robopuppet import baxter_description as bd
 from robopuppet.world import obstacles
 from robopuppet.world.arm_capsules import ArmCapsules

@@ -15,7 +15,8 @@ from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool, Empty, Float64
 
-from baxter_sim_testing import Latest, publisher, wait_for, warned, warnings
+from baxter_sim_testing import Latest, publisher, warned, warnings
+from waiting import wait_for
 from robopuppet import baxter_description as bd
 from robopuppet.interface import BAXTER_SIDES
 

@@ -13,7 +13,8 @@ from baxter_core_msgs.srv import SolvePositionIK, SolvePositionIKRequest
 from geometry_msgs.msg import Point, Pose, PoseStamped, Quaternion
 from std_msgs.msg import Bool, Header
 
-from baxter_sim_testing import Latest, publisher, wait_for
+from baxter_sim_testing import Latest, publisher
+from waiting import wait_for
 from robopuppet import baxter_description as bd
 
 NAVIGATORS = ('left', 'right', 'torso_left', 'torso_right')

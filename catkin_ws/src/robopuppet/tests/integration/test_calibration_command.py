@@ -19,7 +19,8 @@ from sensor_msgs.msg import JointState
 from robopuppet import baxter_description, interface, settings
 from robopuppet.calibration import procedure
 from robopuppet.config import config_store
-from teleop_harness import PuppetArm, calibrate, max_error, wait_for
+from teleop_harness import PuppetArm, calibrate, max_error
+from waiting import wait_for
 
 TOLERANCE_RAD = 0.01
 STILL_S, STILL_RAD = 0.5, 0.002  # posed: near the pose, moving less than this for this long
@@ -37,7 +38,7 @@ class Target:
 
     def __init__(self):
         self._lock, self.names, self.angles = threading.Lock(), None, None
-        rospy.Subscriber('%s/%s' % (interface.puppet_ns('R'), procedure.TARGET_TOPIC),
+        rospy.Subscriber('%s/%s' % (interface.puppet_ns('R'), interface.CALIBRATION_TARGET),
                          JointState, self._on_target, queue_size=10)
 
     def _on_target(self, msg):

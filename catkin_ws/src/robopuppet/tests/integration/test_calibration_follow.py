@@ -26,7 +26,8 @@ from hand_pose import HAND_POSE
 from robopuppet import baxter_description, interface
 from robopuppet_msgs.msg import ArmSettings
 from robopuppet_msgs.srv import SetConfig
-from teleop_harness import Baxter, PuppetArm, calibrate, max_error, wait_for
+from teleop_harness import Baxter, PuppetArm, calibrate, max_error
+from waiting import wait_for
 
 SIDE = 'R'
 STAY_TOL_RAD = 0.02      # Baxter "stays": no joint of its measured arm moves farther than this

@@ -25,7 +25,7 @@ CAMERA, BAD_CAMERA = 'test_camera', 'bad_camera'
 
 def subscribers(camera):
     """Return the nodes the master lists as subscribers of a camera's image/compressed."""
-    topic = interface.camera_topic(camera, 'image/compressed')
+    topic = interface.camera_topic(camera, interface.CAMERA_COMPRESSED)
     _, subs, _ = rosgraph.Master(rospy.get_name()).getSystemState()
     return dict((t, nodes) for t, nodes in subs).get(topic, [])
 
@@ -94,7 +94,7 @@ class CameraGuiTest(unittest.TestCase):
         self.assertEqual(self.level(), camera_view.ERROR)
         self.assertIn('stopped', self.pane.status.text())
         # Corrupt JPEGs on another camera: counted, the GUI goes on.
-        bad = rospy.Publisher(interface.camera_topic(BAD_CAMERA, 'image/compressed'),
+        bad = rospy.Publisher(interface.camera_topic(BAD_CAMERA, interface.CAMERA_COMPRESSED),
                               CompressedImage, queue_size=10)
         self.pane.choose(BAD_CAMERA)
         self.assertTrue(wait_for_subscribers([bad]))

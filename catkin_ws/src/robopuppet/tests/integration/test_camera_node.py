@@ -18,6 +18,8 @@ from sensor_msgs.msg import CameraInfo, CompressedImage
 from robopuppet import interface
 from robopuppet.cameras import jpeg, webcam
 
+from waiting import wait_for
+
 CAMERA, NODE = 'test_camera', '/camera_test'
 WIDTH, HEIGHT, QUALITY, HFOV_DEG = 320, 240, 60, 70.0
 VIDEO_SIZE = (640, 480)  # the file's frames: the node must scale them to WIDTH x HEIGHT
@@ -46,16 +48,6 @@ def write_video(path, frames=20, rate_hz=20.0):
     os.rename(partial, path)
 
 
-def wait_for(predicate, timeout_s, step_s=0.05):
-    end_s = time.monotonic() + timeout_s
-    while time.monotonic() < end_s:
-        result = predicate()
-        if result:
-            return result
-        time.sleep(step_s)
-    return predicate()
-
-
 class CameraNodeTest(unittest.TestCase):
 
     @classmethod
@@ -65,10 +57,11 @@ class CameraNodeTest(unittest.TestCase):
         os.makedirs(os.path.dirname(cls.device), exist_ok=True)
         cls.lock = threading.Lock()
         cls.images, cls.infos, cls.statuses, cls.errors = [], [], [], []
-        rospy.Subscriber(interface.camera_topic(CAMERA, 'image/compressed'), CompressedImage,
-                         cls.keep, (cls.images, 'image'), queue_size=100, buff_size=2 ** 24)
-        rospy.Subscriber(interface.camera_topic(CAMERA, 'camera_info'), CameraInfo, cls.keep,
-                         (cls.infos, 'info'), queue_size=100)
+        rospy.Subscriber(interface.camera_topic(CAMERA, interface.CAMERA_COMPRESSED),
+                         CompressedImage, cls.keep, (cls.images, 'image'), queue_size=100,
+                         buff_size=2 ** 24)
+        rospy.Subscriber(interface.camera_topic(CAMERA, interface.CAMERA_INFO), CameraInfo,
+                         cls.keep, (cls.infos, 'info'), queue_size=100)
         rospy.Subscriber(interface.DIAGNOSTICS, DiagnosticArray, cls.on_diagnostics,
                          queue_size=100)
         rospy.Subscriber('/rosout', Log, cls.on_log, queue_size=100)

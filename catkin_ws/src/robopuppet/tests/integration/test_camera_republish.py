@@ -2,7 +2,6 @@
 """camera_republish turns a raw camera's images (Baxter's bgra8) into JPEG with the same header,
 and drops an image it cannot convert without stopping."""
 import threading
-import time
 import unittest
 
 import cv2
@@ -13,6 +12,7 @@ from sensor_msgs.msg import CompressedImage, Image
 
 from robopuppet import interface
 from robopuppet.cameras import jpeg
+from waiting import wait_for
 
 CAMERA = 'test_hand_camera'
 WIDTH, HEIGHT = 640, 400  # Baxter's hand cameras' default size
@@ -38,23 +38,19 @@ class CameraRepublishTest(unittest.TestCase):
         def keep(msg):
             with lock:
                 received.append(msg)
-        rospy.Subscriber(interface.camera_topic(CAMERA, 'image/compressed'), CompressedImage,
-                         keep, queue_size=10)
-        raw = rospy.Publisher(interface.camera_topic(CAMERA, 'image'), Image, queue_size=10)
-        end_s = time.monotonic() + 20.0
-        while raw.get_num_connections() == 0 and time.monotonic() < end_s:
-            time.sleep(0.05)
-        time.sleep(1.0)  # the republisher's compressed publisher connects to us too
+        jpegs = rospy.Subscriber(interface.camera_topic(CAMERA, interface.CAMERA_COMPRESSED),
+                                 CompressedImage, keep, queue_size=10)
+        raw = rospy.Publisher(interface.camera_topic(CAMERA, interface.CAMERA_IMAGE), Image,
+                              queue_size=10)
+        wait_for(lambda: raw.get_num_connections() and jpegs.get_num_connections(), 20.0,
+                 'camera_republish connected both ways')
         stamps = []
-        for shade in (40, 120, 200):
+        for count, shade in enumerate((40, 120, 200), 1):
             bad = Image(height=2, width=2, encoding='yuv422', step=4, data=bytes(8))
             raw.publish(bad)  # dropped with a warning; the node goes on
             stamps.append(rospy.Time.now())
             raw.publish(bgra_image(stamps[-1], shade))
-            time.sleep(0.3)
-        end_s = time.monotonic() + 10.0
-        while len(received) < 3 and time.monotonic() < end_s:
-            time.sleep(0.05)
+            wait_for(lambda: len(received) >= count, 10.0, 'JPEG number %d' % count)
         with lock:
             got = list(received)
         self.assertEqual([msg.header.stamp for msg in got], stamps)

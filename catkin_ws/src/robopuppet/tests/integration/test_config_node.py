@@ -14,9 +14,10 @@ import rostest
 from std_msgs.msg import Float32, String
 
 from config_testing import (ACTIVE, FIXTURE, ConfigNodeRunner, StoredSettings, joint_values,
-                            set_config, wait_for)
+                            set_config)
 from robopuppet import interface, settings
 from robopuppet.config import config_store
+from waiting import wait_for
 
 
 class ConfigNodeTest(ConfigNodeRunner, unittest.TestCase):
@@ -125,7 +126,7 @@ class ConfigNodeTest(ConfigNodeRunner, unittest.TestCase):
         for publisher in publishers.values():
             self.addCleanup(publisher.unregister)
         self.assertTrue(wait_for(lambda: all(p.get_num_connections()
-                                             for p in publishers.values())),
+                                             for p in publishers.values()), 10.0),
                         'config node never subscribed')
         for name, value, _ in bad:
             publishers[name].publish(Float32(value))
@@ -153,7 +154,8 @@ class ConfigNodeTest(ConfigNodeRunner, unittest.TestCase):
         self.assertTrue(set_config(4, pid_ki=3.0, pid_kd=1.0, voltage_min=-5.0,
                                    voltage_max=1.0).stored)
         stored = {j: joint_values(v) for j, v in enumerate(self.wait_stored(1).joints)}
-        self.assertTrue(wait_for(lambda: opmode.get_num_connections()), 'no opmode subscriber')
+        self.assertTrue(wait_for(lambda: opmode.get_num_connections(), 10.0),
+                        'no opmode subscriber')
 
         def newest():
             return wait_for(lambda: active.messages()[-1], 0.1)
@@ -164,7 +166,7 @@ class ConfigNodeTest(ConfigNodeRunner, unittest.TestCase):
                                                                        -3.0),
                         voltage_max=min(values['voltage_max'], 3.0))
         opmode.publish(String(interface.FEEL))
-        self.assertTrue(wait_for(lambda: newest().profile == 'feel'), 'no feel profile')
+        self.assertTrue(wait_for(lambda: newest().profile == 'feel', 10.0), 'no feel profile')
         feel = newest()
         self.assertEqual(feel.revision, 1)
         self.assertEqual([joint_values(j) for j in feel.joints],
@@ -188,7 +190,7 @@ class ConfigNodeTest(ConfigNodeRunner, unittest.TestCase):
         for mode in (interface.HOLD, interface.FEEL, interface.LIMP):
             opmode.publish(String(mode))
             want = 'feel' if mode == interface.FEEL else ''
-            self.assertTrue(wait_for(lambda: newest().profile == want), mode)
+            self.assertTrue(wait_for(lambda: newest().profile == want, 10.0), mode)
             self.assertEqual([joint_values(j) for j in newest().joints], [
                 gentle(stored[j]) if want else stored[j] for j in settings.JOINTS], mode)
         opmode.publish(String('stiff'))

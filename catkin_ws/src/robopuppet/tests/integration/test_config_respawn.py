@@ -21,7 +21,8 @@ import rosnode
 import rospy
 import rostest
 
-from config_testing import SERVICE, StoredSettings, joint_values, wait_for
+from config_testing import SERVICE, StoredSettings, joint_values
+from waiting import wait_for
 from robopuppet import interface, settings
 from robopuppet.config import config_store
 from robopuppet_msgs.msg import JointChange, TeleopState
@@ -168,8 +169,9 @@ class ConfigRespawnTest(unittest.TestCase):
                         'Undo once following stopped')
         self.assertEqual(FileWatch(path, calibrations).state(),
                          'old' if after == 'new' else 'new')
-        self.assertIsNotNone(wait_for(lambda: [m for m in stored.messages()
-                                               if m.revision == 1][1:], 10))
+        self.assertTrue(wait_for(lambda: [m for m in stored.messages()
+                                          if m.revision == 1][1:], 10),
+                        'the respawned config_R published the undone revision 1')
 
 
 if __name__ == '__main__':

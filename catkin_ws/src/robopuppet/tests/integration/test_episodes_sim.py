@@ -22,7 +22,8 @@ from robopuppet.episodes import recording
 from robopuppet_msgs.msg import RecordingState
 from robopuppet_msgs.srv import Record
 from hand_pose import HAND_POSE
-from teleop_harness import Baxter, PuppetArm, calibrate, max_error, wait_for
+from teleop_harness import Baxter, PuppetArm, calibrate, max_error
+from waiting import wait_for
 
 EPISODES = os.path.join(rospkg.get_ros_home(), 'robopuppet', 'episodes')
 RATE_HZ = interface.DEFAULT_COMM_RATE_HZ
@@ -43,8 +44,9 @@ def warm_up_cameras():
     """Watch each camera until it delivers a frame: the simulated cameras load OpenGL when first
     watched (seconds on a busy machine), as the GUI's Cameras tab would have made them do."""
     frames = set()
-    watchers = [rospy.Subscriber(interface.camera_topic(c, 'image/compressed'), rospy.AnyMsg,
-                                 lambda _, camera: frames.add(camera), callback_args=c)
+    watchers = [rospy.Subscriber(interface.camera_topic(c, interface.CAMERA_COMPRESSED),
+                                 rospy.AnyMsg, lambda _, camera: frames.add(camera),
+                                 callback_args=c)
                 for c in CAMERAS]
     try:
         wait_for(lambda: frames == set(CAMERAS), 30, 'a frame of every camera')
@@ -69,7 +71,7 @@ class EpisodesSimTest(unittest.TestCase):
 
     def setUp(self):
         self.status = None
-        rospy.Subscriber(recording.RECORDING_TOPIC, RecordingState, self._on_status)
+        rospy.Subscriber(interface.RECORDING_TOPIC, RecordingState, self._on_status)
 
     def _on_status(self, msg):
         self.status = msg
@@ -83,7 +85,7 @@ class EpisodesSimTest(unittest.TestCase):
         wait_for(lambda: self.status is not None, 10, 'the recorder status')
         warm_up_cameras()
 
-        puppet.press(recording.RECORD_BUTTON)
+        puppet.press(interface.BUTTON_RECORD)
         wait_for(lambda: self.status.recording, 5, 'recording after button 4')
         started = time.monotonic()
         puppet.press(interface.BUTTON_RIGHT)
@@ -102,7 +104,7 @@ class EpisodesSimTest(unittest.TestCase):
             puppet.press(button)  # stop following; hold; feel; limp (three opmodes)
         wait_for(lambda: puppet.teleop.opmode == interface.LIMP, 5, 'limp again')
         sets = puppet.sets_since(started)
-        puppet.press(recording.RECORD_BUTTON)
+        puppet.press(interface.BUTTON_RECORD)
         wait_for(lambda: not self.status.recording and self.status.episode.endswith('.bag'), 5,
                  'stopped after the second press of button 4')
         duration_s = time.monotonic() - started
@@ -133,7 +135,7 @@ class EpisodesSimTest(unittest.TestCase):
                                delta=0.2 * duration_s * RATE_HZ)
         self.assertGreater(counts['/robot/limb/right/joint_command'], 50 * duration_s)
         for camera in CAMERAS:  # rendered because the episode subscribes; nice +10 on a busy CPU
-            topic = interface.camera_topic(camera, 'image/compressed')
+            topic = interface.camera_topic(camera, interface.CAMERA_COMPRESSED)
             self.assertEqual(info[topic].msg_type, 'sensor_msgs/CompressedImage')
             frames = CAMERA_RATE_HZ * (meta['duration_s'] - delays[topic])
             self.assertGreater(counts[topic], 0.2 * frames, figures)
@@ -147,7 +149,7 @@ class EpisodesSimTest(unittest.TestCase):
         self.assertAlmostEqual(meta['duration_s'], duration_s, delta=1.0)
 
     def test_2_quick_starts_and_stops_leave_only_the_buttons_subscribed(self):
-        record = rospy.ServiceProxy(recording.RECORD_SERVICE, Record)
+        record = rospy.ServiceProxy(interface.RECORD_SERVICE, Record)
         record.wait_for_service(10)
         buttons = set(recording.button_topics(('R',)))
         self.assertEqual(recorder_inputs(), (buttons, buttons))  # idle
@@ -163,7 +165,7 @@ class EpisodesSimTest(unittest.TestCase):
         self.assertEqual(recorder_inputs(), (buttons, buttons))
 
     def test_3_a_kill_mid_episode_loses_at_most_a_second(self):
-        record = rospy.ServiceProxy(recording.RECORD_SERVICE, Record)
+        record = rospy.ServiceProxy(interface.RECORD_SERVICE, Record)
         record.wait_for_service(10)
         answer = record(True, 'to be killed')
         self.assertTrue(answer.ok, answer.error)

@@ -21,7 +21,8 @@ import rostest
 from feel_harness import Device, into_feel
 from hand_pose import HAND_POSE
 from robopuppet import interface, settings
-from teleop_harness import Baxter, PuppetArm, calibrate, max_error, node_pid, wait_for
+from teleop_harness import Baxter, PuppetArm, calibrate, max_error, node_pid
+from waiting import wait_for
 
 # serial_R's feel watchdog: ~feel_setpoint_timeout (0.5 s) and the frame on the wire; the margin
 # is for a loaded machine.

@@ -18,7 +18,8 @@ from feel_harness import Device, fell_silent, into_feel
 from robopuppet import baxter_description as bd, interface, settings
 from robopuppet.puppet_sim import puppet_arm
 from robopuppet.world import arm_capsules, obstacles, zones
-from teleop_harness import Baxter, PuppetArm, calibrate, max_error, wait_for
+from teleop_harness import Baxter, PuppetArm, calibrate, max_error
+from waiting import wait_for
 
 TABLE_FILE = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'fixtures', 'table.yaml')
 # The SDK's neutral pose (in the puppet's angle limits): the right gripper 14 cm above the table.

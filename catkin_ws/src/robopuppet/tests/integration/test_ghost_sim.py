@@ -15,7 +15,8 @@ from sensor_msgs.msg import JointState
 
 from robopuppet import baxter_description, interface
 from robopuppet.calibration import procedure
-from teleop_harness import Baxter, PuppetArm, calibrate, max_error, wait_for
+from teleop_harness import Baxter, PuppetArm, calibrate, max_error
+from waiting import wait_for
 
 # Joint 3 (e1) below Baxter's lower limit -0.05 rad: clamped on both arms.
 POSE = [0.5, -0.6, 0.8, -0.3, 1.0, 1.2, -0.7]

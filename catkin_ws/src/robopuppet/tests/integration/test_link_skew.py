@@ -26,7 +26,8 @@ from std_msgs.msg import Empty, Float32, String, UInt8
 
 from robopuppet import baxter_description, interface, settings
 from robopuppet_msgs.msg import LinkPing, LinkState, TeleopState
-from teleop_harness import Baxter, max_error, wait_for
+from teleop_harness import Baxter, max_error
+from waiting import wait_for
 
 SIDE = 'R'
 SKEW_S = 100.0            # the operator host's clock minus the robot host's

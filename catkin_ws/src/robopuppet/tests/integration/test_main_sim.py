@@ -11,7 +11,8 @@ import rostest
 from robopuppet import interface
 from robopuppet.arm.joint_motion import mirror
 from hand_pose import HAND_POSE
-from teleop_harness import Baxter, PuppetArm, calibrate, max_error, wait_for
+from teleop_harness import Baxter, PuppetArm, calibrate, max_error
+from waiting import wait_for
 
 
 class MainSimTest(unittest.TestCase):

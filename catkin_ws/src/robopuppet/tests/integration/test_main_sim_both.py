@@ -8,7 +8,8 @@ import rostest
 
 from robopuppet import interface
 from hand_pose import HAND_POSE
-from teleop_harness import Baxter, PuppetArm, calibrate, max_error, wait_for
+from teleop_harness import Baxter, PuppetArm, calibrate, max_error
+from waiting import wait_for
 
 # The left arm as is (not mirrored), raised like HAND_POSE: on its way from neutral no nearer to
 # config/zones.yaml than there (5.4 cm), 39 cm from them at the pose.

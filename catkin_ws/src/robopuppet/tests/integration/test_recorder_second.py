@@ -17,10 +17,11 @@ import rostest
 import yaml
 from sensor_msgs.msg import JointState
 
+from robopuppet import interface
 from robopuppet.episodes import recording
 from robopuppet_msgs.msg import RecordingState
 from robopuppet_msgs.srv import Record
-from teleop_harness import wait_for
+from waiting import wait_for
 
 EPISODES = os.path.join(rospkg.get_ros_home(), 'robopuppet', 'episodes')
 SECOND_S = 30.0   # a refusing recorder exits within this (rosrun and imports included)
@@ -38,7 +39,7 @@ def pid_of(node):
 def providers():
     """Return the nodes the master lists as serving /puppet/record."""
     _, _, services = rosgraph.Master(rospy.get_name()).getSystemState()
-    return [nodes for name, nodes in services if name == recording.RECORD_SERVICE]
+    return [nodes for name, nodes in services if name == interface.RECORD_SERVICE]
 
 
 def nodes():
@@ -64,9 +65,9 @@ class RecorderSecondTest(unittest.TestCase):
         cls.timer = rospy.Timer(rospy.Duration(0.01), lambda _: publisher.publish(
             JointState(name=['right_s0'], position=[0.0])))  # something to record, 100 Hz
         cls.status = None
-        rospy.Subscriber(recording.RECORDING_TOPIC, RecordingState,
+        rospy.Subscriber(interface.RECORDING_TOPIC, RecordingState,
                          lambda msg: setattr(cls, 'status', msg))
-        cls.record = rospy.ServiceProxy(recording.RECORD_SERVICE, Record)
+        cls.record = rospy.ServiceProxy(interface.RECORD_SERVICE, Record)
         cls.record.wait_for_service(20)
 
     def serving(self):
@@ -120,7 +121,7 @@ class RecorderSecondTest(unittest.TestCase):
                                          '_episodes_dir:=%s' % other)
             self.assertEqual(code, 2)
             self.assertIn('%s is served already by /recorder (pid %d)' % (
-                recording.RECORD_SERVICE, first), said)
+                interface.RECORD_SERVICE, first), said)
             self.assertEqual(os.listdir(other), [recording.LOCK_FILE])  # no episode, no repair
         self.assertEqual(providers(), [['/recorder']])
         self.assertNotIn('/recorder3', nodes())
@@ -135,7 +136,7 @@ class RecorderSecondTest(unittest.TestCase):
         with rosbag.Bag(episode) as bag:
             self.assertGreater(bag.get_message_count(), 0)
         self.assertFalse(yaml.safe_load(open(episode[:-len('.bag')] + '.yaml'))['ended_cleanly'])
-        wait_for(self.serving, 10, 'the respawned recorder serving %s' % recording.RECORD_SERVICE)
+        wait_for(self.serving, 10, 'the respawned recorder serving %s' % interface.RECORD_SERVICE)
         respawned = pid_of('/recorder')
         self.assertNotEqual(respawned, killed)
         code, said = second_recorder('__name:=recorder2', '_sides:=R')  # the folder is its

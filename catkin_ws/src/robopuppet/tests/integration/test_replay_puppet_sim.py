@@ -4,7 +4,6 @@ the puppet in hold follows the recorded path and the playback finishes where it 
 last pose; the GUI's replay control plays, stops and is stopped by closing the window; button 1
 stops it at once and it holds there; a puppet held firmly makes the playback give up within its
 rule's time, go limp and say why; a hand resting on the puppet gives way and it plays."""
-import contextlib
 import math
 import subprocess
 import threading
@@ -24,7 +23,8 @@ from robopuppet.gui.puppet_client import PuppetClient
 from robopuppet.gui.state import ArmState
 from robopuppet.gui.window import Window
 from hand_pose import HAND_POSE
-from teleop_harness import Baxter, PuppetArm, calibrate, max_error, wait_for
+from teleop_harness import Baxter, PuppetArm, calibrate, max_error, swinging_hand
+from waiting import wait_for
 
 SWING_S = 3.0        # the recorded hand motion
 LET_GO = [math.nan] * settings.NUM_JOINTS
@@ -37,25 +37,6 @@ LET_GO = [math.nan] * settings.NUM_JOINTS
 TOLERANCE_RAD = 0.1
 SAG_RAD = 0.12
 HELD_OFF_RAD = 0.6   # the held joints' distance from the recorded start pose
-
-
-@contextlib.contextmanager
-def gripping_hand(puppet, pose, period_s=0.1):
-    """Hold the simulated puppet's hand firmly at pose: the target sent every period_s, as an
-    operator who keeps holding on (a hand left alone rests on the puppet)."""
-    done = threading.Event()
-
-    def grip():
-        while not done.is_set():
-            puppet.hand(pose)
-            done.wait(period_s)
-    thread = threading.Thread(target=grip, daemon=True)
-    thread.start()
-    try:
-        yield
-    finally:
-        done.set()
-        thread.join()
 
 
 class ReplayPuppetSimTest(unittest.TestCase):
@@ -181,7 +162,8 @@ class ReplayPuppetSimTest(unittest.TestCase):
               'of the recorded ones' % (off_path, short))
         self.assertLess(off_path, TOLERANCE_RAD)
         self.assertLess(short, TOLERANCE_RAD)
-        time.sleep(0.3)
+        wait_for(lambda: self.device['opmode'] == interface.HOLD and max_error(
+            self.device['setpoints'], last) < 1e-5, 5, 'the device holding the last pose')
         self.assertEqual(self.device['opmode'], interface.HOLD)
         self.assertLess(max_error(self.device['setpoints'], last), 1e-5)
         self.puppet.wait_sets(3)
@@ -236,7 +218,8 @@ class ReplayPuppetSimTest(unittest.TestCase):
         # a loaded machine (a CI run once saw nothing said in 20 s) needs more.
         wait_for(lambda: any(line.startswith('replay: playing') for line in self.lines), 45,
                  'playing (replay said: %s)' % self.lines)
-        time.sleep(0.5)  # the setpoints move
+        playing = time.monotonic()
+        wait_for(lambda: self.changes(self.sent_by_replay(playing))[0], 5, 'the setpoints moving')
         wait_for(lambda: self.puppet.state() == interface.READY, 10, 'arm_R ready for button 1')
         pressed = time.monotonic()
         self.puppet.press(interface.BUTTON_OPMODE)
@@ -260,7 +243,7 @@ class ReplayPuppetSimTest(unittest.TestCase):
         # limp) is its call.
         wait_for(lambda: self.puppet.teleop.opmode == interface.HOLD or self.arm_faulted(
             press_t), 5, 'arm_R holding')
-        time.sleep(0.5)
+        self.puppet.wait_sets(5)  # the puppet's reports of holding (or arm_R's of a fault)
         if self.arm_faulted(press_t):
             self.skipTest('arm_R faulted around button 1: the puppet is its to hold or let go')
         self.assertGreater(max_error(self.baxter.arm('right'), stay), 0.1)
@@ -281,7 +264,7 @@ class ReplayPuppetSimTest(unittest.TestCase):
         held = list(self.path.values[0])
         held[0] += HELD_OFF_RAD
         held[3] -= HELD_OFF_RAD
-        with gripping_hand(self.puppet, held):
+        with swinging_hand(self.puppet, held, amplitude_rad=0.0):  # a grip: held still
             wait_for(lambda: max_error(self.puppet.angles, held) < 0.1, 10,
                      'the puppet at the held pose (at %s)' % self.puppet.angles)
             code, started = self.replay_to_its_end()

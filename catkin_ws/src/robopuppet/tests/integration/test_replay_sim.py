@@ -21,7 +21,8 @@ from std_msgs.msg import UInt8
 from robopuppet import baxter_description, interface
 from robopuppet.world import arm_capsules, zones
 from hand_pose import HAND_POSE
-from teleop_harness import Baxter, PuppetArm, wait_for
+from teleop_harness import Baxter, PuppetArm
+from waiting import wait_for
 
 RATE_HZ, DURATION_S = 100.0, 3.0
 NAMES = baxter_description.arm_joint_names('right')

@@ -15,7 +15,8 @@ from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import CameraInfo, CompressedImage, Image, JointState
 from std_msgs.msg import Bool
 
-from baxter_sim_testing import Latest, publisher, wait_for
+from baxter_sim_testing import Latest, publisher
+from waiting import wait_for
 from robopuppet import interface
 from robopuppet.cameras import jpeg
 
@@ -30,8 +31,8 @@ class Frames:
         self.camera, self.lock, self.frames, self.sub = camera, threading.Lock(), [], None
 
     def start(self):
-        self.sub = rospy.Subscriber(interface.camera_topic(self.camera, 'image'), Image,
-                                    self._on_image, queue_size=30, buff_size=2 ** 24)
+        self.sub = rospy.Subscriber(interface.camera_topic(self.camera, interface.CAMERA_IMAGE),
+                                    Image, self._on_image, queue_size=30, buff_size=2 ** 24)
 
     def _on_image(self, msg):
         with self.lock:
@@ -48,7 +49,7 @@ class SimCamerasTest(unittest.TestCase):
     def setUpClass(cls):
         rospy.init_node('sim_cameras_test')
         cls.joints = Latest(interface.ROBOT_JOINT_STATES, JointState)
-        cls.infos = {c: Latest(interface.camera_topic(c, 'camera_info'), CameraInfo)
+        cls.infos = {c: Latest(interface.camera_topic(c, interface.CAMERA_INFO), CameraInfo)
                      for c in (CAMERA, interface.ROOM_CAMERA)}
         cls.rosout = Latest('/rosout', Log)
         cls.enable_pub = publisher(interface.SET_SUPER_ENABLE, Bool)
@@ -79,7 +80,8 @@ class SimCamerasTest(unittest.TestCase):
         self.enable_pub.publish(Bool(True))
         frames = Frames(CAMERA)
         frames.start()
-        compressed = Latest(interface.camera_topic(CAMERA, 'image/compressed'), CompressedImage)
+        compressed = Latest(interface.camera_topic(CAMERA, interface.CAMERA_COMPRESSED),
+                            CompressedImage)
         wait_for(lambda: frames.since(0.0) and compressed.msg, 30.0, 'the first frames')
         # The room camera is still not watched: still not rendered.
         self.assertIsNone(self.infos[interface.ROOM_CAMERA].msg)

@@ -32,7 +32,8 @@ from hand_pose import HAND_POSE
 from message_garbage import MessageGarbage
 from robopuppet import baxter_description, interface, settings
 from robopuppet_msgs.srv import GetConfig, Record, SetConfig
-from teleop_harness import Baxter, PuppetArm, calibrate, max_error, wait_for
+from teleop_harness import Baxter, PuppetArm, calibrate, max_error
+from waiting import wait_for
 
 SEED = 20261124
 GARBAGE_S = 4.0
@@ -369,7 +370,8 @@ class TopicGarbageTest(unittest.TestCase):
                     puppet.side, wrong, wanted, timeout_s, puppet.teleop))
             puppet.press(interface.BUTTON_LEFT if wrong[0] == 'follow_left'
                          else interface.BUTTON_RIGHT)
-            time.sleep(0.5)   # arm_X's answer, on teleop_state
+            # arm_X's answer, on teleop_state (a press it ignored is pressed again).
+            wait_for(lambda: getattr(puppet.teleop, wrong[0]) == wanted[wrong[0]], 2.0)
 
     def follow_until(self, puppet, baxter, pose, timeout_s=45.0):
         """Make the puppet drive Baxter's right arm until the arm is on the puppet at pose."""

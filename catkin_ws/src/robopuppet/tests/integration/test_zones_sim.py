@@ -18,7 +18,8 @@ from robopuppet.arm import zone_topics
 from robopuppet.arm.joint_motion import mirror
 from robopuppet.cameras import scene
 from robopuppet.world import arm_capsules, obstacles, zones
-from teleop_harness import Baxter, PuppetArm, calibrate, max_error, wait_for
+from teleop_harness import Baxter, PuppetArm, calibrate, max_error
+from waiting import wait_for
 
 ZONES_FILE = bd.URDF_PATH.replace('urdf/baxter.urdf', 'config/zones.yaml')
 WORLD_FILE = bd.URDF_PATH.replace('urdf/baxter.urdf', 'config/world.yaml')
@@ -61,8 +62,8 @@ class Latest:
         """Return the texts of the highlighted zones' markers ([] none; None: nothing yet)."""
         if self.array is None:
             return None
-        return [m.text for m in self.array.markers
-                if m.ns == zone_topics.HELD_NAMESPACE and m.type == Marker.TEXT_VIEW_FACING]
+        return [m.text for m in self.array.markers if m.ns.startswith(zone_topics.HELD_NAMESPACE)
+                and m.action == Marker.ADD and m.type == Marker.TEXT_VIEW_FACING]
 
 
 class ZonesSimTest(unittest.TestCase):
@@ -76,7 +77,7 @@ class ZonesSimTest(unittest.TestCase):
         self.assertLess(guard.clearance(INTO_HEAD).min(), -0.05)
 
         puppet, baxter, samples = PuppetArm('R'), Baxter(), Samples()
-        room, zone_markers = Latest(interface.ROOM_MARKERS), Latest(interface.ZONE_MARKERS)
+        room, zone_markers = Latest(interface.ROOM_MARKERS), Latest(interface.ZONE_HOLD_MARKERS)
         wait_for(lambda: room.array is not None, 30, 'the room markers')
         expected = shape_markers.room_shapes(scene.load_world(WORLD_FILE).shapes,
                                              obstacles.load_obstacles(BED_FILE))

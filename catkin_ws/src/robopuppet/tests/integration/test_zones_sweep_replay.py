@@ -26,7 +26,8 @@ from baxter_core_msgs.msg import JointCommand
 from robopuppet import baxter_description as bd, interface
 from hand_pose import HAND_POSE
 from sweep_harness import Recorder, inside_message, package_guards, report, travel
-from teleop_harness import PuppetArm, wait_for
+from teleop_harness import PuppetArm
+from waiting import wait_for
 
 # The right arm from A across the patient to B, then down to C, at EPISODE_SPEED x the velocity
 # limits. Baxter, at 0.3 x them in mode 1, lowers its elbow before its shoulder has swung across:

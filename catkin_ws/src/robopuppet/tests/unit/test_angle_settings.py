@@ -1,13 +1,13 @@
 """robopuppet.arm.angle_settings and settings.angle_tag: which stored settings change what the
 puppet's angles mean, and arm_X's refusal of samples made with other angle settings, whichever
 of stored_settings and the samples arrives first (fed to the controller as the node feeds it,
-see test_arm_controller.Rig)."""
+see test_controller.Rig)."""
 import pytest
 
 from robopuppet import interface, settings
 from robopuppet.arm import controller
 from robopuppet.arm.angle_settings import AngleSettingsWatch, describe
-from test_arm_controller import POSE, Rig
+from test_controller import POSE, Rig
 
 STORED = [dict(settings.DEFAULTS, home_angle=0.1 * j) for j in settings.JOINTS]
 OTHERS = [n for n in settings.NAMES if n not in settings.ANGLE_SETTINGS]
@@ -100,8 +100,8 @@ class TaggedRig(Rig):
 
     def puppet(self, statuses=interface.WORKING, angles=None, age_s=0.0):
         for joint in settings.JOINTS:
-            self.core.on_status(self.t, joint, statuses)
-        self.core.teleop.on_heartbeat(self.t)
+            self.core.on_status(joint, statuses)
+        self.core.on_heartbeat(self.t)
         return self.core.on_joint_states(self.t, settings.JOINT_NAMES, angles or POSE['right'],
                                          self.operator_s(age_s), self.now_s(), self.tag)
 
@@ -112,7 +112,7 @@ def arm_commands(actions):
 
 def following_rig():
     rig = TaggedRig()
-    assert rig.core.on_stored_settings(rig.t, joints()) == ''
+    assert rig.core.on_stored_settings(joints()) == ''
     rig.step()
     assert rig.core.teleop.state == interface.READY
     rig.press(interface.BUTTON_RIGHT)
@@ -126,7 +126,7 @@ def test_tagged_samples_wait_for_the_stored_settings():
         rig.step()
     assert rig.core.teleop.state == interface.CALIBRATING
     assert "before config_X's stored settings came" in rig.core.teleop.detail
-    rig.core.on_stored_settings(rig.t, joints())
+    rig.core.on_stored_settings(joints())
     rig.step()
     assert rig.core.teleop.state == interface.READY
 
@@ -143,7 +143,7 @@ def test_the_device_first_samples_of_the_new_meaning_are_refused_until_stored_se
             assert command == pytest.approx(before, abs=1e-9)   # Baxter stays
     assert rig.core.teleop.state == interface.FOLLOWING   # not silent yet (0.4 s)
     assert dict(rig.core._report(rig.t + 1.0).values)['refused_for_angle_settings'] == '20'
-    assert rig.core.on_stored_settings(rig.t, joints(home_angle_0=0.5)) == (
+    assert rig.core.on_stored_settings(joints(home_angle_0=0.5)) == (
         "joint 0's home_angle changed in stored_settings: following stops")
     out = rig.step(angles=jumped)
     assert arm_commands(out) == [pytest.approx(POSE['right'])]   # stay where Baxter is
@@ -152,9 +152,9 @@ def test_the_device_first_samples_of_the_new_meaning_are_refused_until_stored_se
     assert tp.detail == ("joint 0's home_angle changed: following stopped; press 3 to follow "
                          'again')
     assert not any(arm_commands(rig.step(angles=jumped)) for _ in range(50))   # nothing more
-    tp.on_button(rig.t, interface.BUTTON_RIGHT)   # a new press approaches slowly (0.5 rad/s)
+    rig.core.on_button(interface.BUTTON_RIGHT)   # a new press approaches slowly (0.5 rad/s)
     rig.step(angles=jumped)
-    tp.on_button(rig.t, 0)
+    rig.core.on_button(0)
     assert tp.following['right'] and not tp.tracking['right']
     shoulder = [arm_commands(rig.step(angles=jumped))[0][0] for _ in range(50)]
     for k, command in enumerate(shoulder):   # over T s at most 0.5 x (T + 10 ms)
@@ -164,7 +164,7 @@ def test_the_device_first_samples_of_the_new_meaning_are_refused_until_stored_se
 
 def test_stored_settings_first_refuses_the_old_meaning_until_the_device_has_the_new_one():
     rig = following_rig()
-    rig.core.on_stored_settings(rig.t, joints(sign_angle_2=-1.0))
+    rig.core.on_stored_settings(joints(sign_angle_2=-1.0))
     out = rig.step()   # still the old tag: refused, and following stops
     assert arm_commands(out) == [pytest.approx(POSE['right'])]
     assert rig.core.teleop.detail.startswith("joint 2's sign_angle changed")
@@ -186,14 +186,14 @@ def test_new_meaning_samples_with_no_stored_settings_end_in_a_fault_never_follow
 
 def test_a_settings_change_of_gains_or_while_not_following_changes_nothing():
     rig = following_rig()
-    assert rig.core.on_stored_settings(rig.t, joints(pid_kp_1=5.0)) == ''
+    assert rig.core.on_stored_settings(joints(pid_kp_1=5.0)) == ''
     rig.step()
     assert rig.core.teleop.following['right']
     rig.press(interface.BUTTON_RIGHT)
     detail = rig.core.teleop.detail
-    assert rig.core.on_stored_settings(rig.t, joints(home_angle_1=1.0)) != ''
+    assert rig.core.on_stored_settings(joints(home_angle_1=1.0)) != ''
     rig.tag = settings.angle_tag([dict(v, home_angle=1.0) if j == 1 else v
                                   for j, v in enumerate(STORED)])
     rig.step()
     assert rig.core.teleop.detail == detail   # nothing followed: nothing to say
-    assert rig.core.on_stored_settings(rig.t, joints()[:3]).startswith('stored_settings ignored')
+    assert rig.core.on_stored_settings(joints()[:3]).startswith('stored_settings ignored')

@@ -1,6 +1,6 @@
 """docs/architecture.md's table of nodes and topics against interface.py: every topic name the
-table gives is one the nodes share from the interface table (or the recorder's, from
-episodes/recording.py), and every topic of interface.py appears in the table. Every path the
+table gives is one the nodes share from the interface table, and every topic of interface.py
+appears in the table. Every path the
 document names exists."""
 import pathlib
 import re
@@ -8,7 +8,6 @@ import re
 import pytest
 
 from robopuppet import interface
-from robopuppet.episodes import recording
 
 ROOT = pathlib.Path(__file__).resolve().parents[5]
 DOC = ROOT / 'docs' / 'architecture.md'
@@ -22,9 +21,10 @@ RELATIVE = {interface.JOINT_STATES, interface.USER_BUTTON, interface.HEARTBEAT, 
             interface.SET_ARM_CONFIG, interface.STORED_SETTINGS, interface.ACTIVE_SETTINGS,
             interface.LINK_PING, interface.LINK_ECHO, interface.LINK_STATE}
 ABSOLUTE = {interface.DIAGNOSTICS, interface.REPLAY_STOP, interface.ZONE_MARKERS,
-            interface.ROOM_MARKERS, interface.ROBOT_STATE, interface.ROBOT_JOINT_STATES,
+            interface.ZONE_HOLD_MARKERS, interface.ROOM_MARKERS, interface.ROBOT_STATE,
+            interface.ROBOT_JOINT_STATES,
             interface.SET_SUPER_ENABLE, interface.SET_SUPER_RESET, interface.SET_SUPER_STOP,
-            recording.RECORD_SERVICE, recording.RECORDING_TOPIC}
+            interface.RECORD_SERVICE, interface.RECORDING_TOPIC}
 SIM = {interface.SIM_HAND, interface.SIM_BUTTON, interface.SIM_GRIPPERS, interface.SIM_CONTROL,
        interface.SIM_HAND_TORQUE, interface.SIM_LINE_NOISE, interface.SIM_DEVICE_CONFIG,
        interface.SIM_DEVICE_OPMODE}
@@ -77,7 +77,7 @@ def test_every_path_the_document_names_exists():
         assert (PACKAGE / 'src' / 'robopuppet' / module).exists(), module
 
 
-OUTSIDE = re.compile(r'\b[Ii]ssues? \d+|\bDESIGN(\.md| section)')
+OUTSIDE = re.compile(r"\b[Ii]ssues? \d+|\bDESIGN(\.md| section)|\bseed's|\b[Ss]eed Table")
 TEXT_SUFFIXES = {'.py', '.md', '.launch', '.test', '.sh', '.yaml', '.ini', '.txt', '.xml', '.msg',
                  '.srv', '.urdf', '.rviz', '.nft', ''}
 SKIPPED = {'.git', 'build', 'devel', '__pycache__', '.pytest_cache'}
@@ -99,3 +99,26 @@ def test_the_repository_cites_nothing_outside_itself():
         found += ['%s:%d: %s' % (path.relative_to(ROOT), n, line.strip())
                   for n, line in enumerate(lines, 1) if OUTSIDE.search(line)]
     assert found == []
+
+
+def readme_layout():
+    text = (ROOT / 'README.md').read_text()
+    start = text.index('## Layout')
+    end = text.find('\n## ', start + 1)
+    return text[start:end if end > 0 else None]
+
+
+def test_the_readme_layout_names_every_folder_and_shared_module():
+    layout = readme_layout()
+    library = PACKAGE / 'src' / 'robopuppet'
+    names = [p.name + '/' for p in library.iterdir() if p.is_dir() and p.name != '__pycache__']
+    names += [p.name for p in library.glob('*.py') if p.name != '__init__.py']
+    missing = [name for name in sorted(names) if not re.search(r'\b' + re.escape(name), layout)]
+    assert missing == []
+
+
+def test_the_readme_names_every_benchmark():
+    text = (ROOT / 'README.md').read_text()
+    scripts = [p.name for p in (PACKAGE / 'benchmarks').glob('bench_*.py')
+               if "__name__ == '__main__'" in p.read_text()]
+    assert scripts and [name for name in sorted(scripts) if '`%s`' % name not in text] == []

@@ -9,8 +9,9 @@ import pytest
 
 from robopuppet import baxter_description as bd
 from robopuppet.baxter_sim import baxter_contact
-from robopuppet.baxter_sim.baxter_model import (POSITION_MODE, RAW_POSITION_MODE, TORQUE_MODE,
-                                                VELOCITY_MODE, BaxterModel)
+from robopuppet.baxter_sim.baxter_joint_command import (POSITION_MODE, RAW_POSITION_MODE,
+                                                        TORQUE_MODE, VELOCITY_MODE)
+from robopuppet.baxter_sim.baxter_model import BaxterModel
 from robopuppet.world import obstacles
 from robopuppet.world.arm_capsules import ArmCapsules
 

@@ -132,3 +132,12 @@ def test_urdf_path_is_inside_the_package_dir(tmp_path):
     assert bd.urdf_path(os.path.dirname(os.path.dirname(bd.URDF_PATH))) == bd.URDF_PATH
     with pytest.raises(bd.DescriptionError, match='cannot read'):
         bd.load(bd.urdf_path(str(tmp_path)))
+
+
+def test_urdf_text_is_read_and_parsed_with_the_callers_error():
+    assert bd.parse_urdf(bd.read_urdf()).tag == 'robot'
+    with pytest.raises(ValueError, match='robot description is not XML') as raised:
+        bd.parse_urdf('<robot', ValueError)
+    assert type(raised.value) is ValueError
+    with pytest.raises(bd.DescriptionError, match='cannot read robot description'):
+        bd.read_urdf('/nonexistent/baxter.urdf')

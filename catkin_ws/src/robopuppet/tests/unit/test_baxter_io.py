@@ -5,7 +5,8 @@ import pytest
 
 from robopuppet import baxter_description as bd
 from robopuppet.baxter_sim import baxter_ik, baxter_io
-from robopuppet.baxter_sim.baxter_model import TORQUE_MODE, VELOCITY_MODE, BaxterModel
+from robopuppet.baxter_sim.baxter_joint_command import TORQUE_MODE, VELOCITY_MODE
+from robopuppet.baxter_sim.baxter_model import BaxterModel
 from robopuppet.baxter_sim.baxter_refusals import CommandError, NotEnabledError
 
 DESC = bd.load()

@@ -6,8 +6,9 @@ import pytest
 
 from robopuppet import baxter_description as bd
 from robopuppet.baxter_sim.baxter_gripper import MAX_TEXT_CHARS
-from robopuppet.baxter_sim.baxter_model import (DEFAULT_COMMAND_TIMEOUT_S, POSITION_MODE,
-                                                RAW_POSITION_MODE, SMOOTHING_TIME_S, BaxterModel)
+from robopuppet.baxter_sim.baxter_joint_command import POSITION_MODE, RAW_POSITION_MODE
+from robopuppet.baxter_sim.baxter_model import (DEFAULT_COMMAND_TIMEOUT_S, SMOOTHING_TIME_S,
+                                                BaxterModel)
 from robopuppet.baxter_sim.baxter_refusals import CommandError, NotEnabledError
 
 DESC = bd.load()

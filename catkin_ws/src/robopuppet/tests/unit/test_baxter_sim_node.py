@@ -9,8 +9,9 @@ from baxter_core_msgs.msg import AnalogIOState, AssemblyState, HeadState
 from roslib.message import get_message_class
 
 from robopuppet import baxter_description as bd
-from robopuppet.baxter_sim import baxter_api
+from robopuppet.baxter_sim import baxter_api, baxter_topics
 from robopuppet.baxter_sim.baxter_model import BaxterModel
+from robopuppet.baxter_sim.baxter_publishers import CyclePublishers
 from robopuppet.baxter_sim.baxter_sim_node import BaxterSimNode
 from robopuppet.periodic import Guard, Loop
 
@@ -35,11 +36,13 @@ def fixture_node(monkeypatch):
     node._lock, node._state_lock = threading.Lock(), threading.Lock()
     node._api = baxter_api.BaxterApi(BaxterModel(bd.load(), 0.0, gripper_calibrated=True), 0.2)
     node._guard = Guard('/baxter_sim', node._log_failure)
-    node._state_pub, node._joint_pub = Recorder(), Recorder()
-    node._endpoint_pub = {side: Recorder() for side in ('left', 'right')}
-    node._gripper_pub = {side: Recorder() for side in ('left', 'right')}
-    node._io_pub = {topic: Recorder(data_class=get_message_class(kind))
-                    for topic, kind in baxter_api.io_publications()}
+    node._state_pub = Recorder()
+    node._publishers = publishers = CyclePublishers.__new__(CyclePublishers)
+    publishers.joints = Recorder()
+    publishers.endpoints = {side: Recorder() for side in ('left', 'right')}
+    publishers.grippers = {side: Recorder() for side in ('left', 'right')}
+    publishers.io = {topic: Recorder(data_class=get_message_class(kind))
+                     for topic, kind in baxter_topics.io_publications()}
     node.logs = []
     for level in ('logwarn', 'loginfo', 'logerr'):
         monkeypatch.setattr(rospy, level, lambda text, *args, level=level: node.logs.append(
@@ -50,17 +53,17 @@ def fixture_node(monkeypatch):
 
 def test_a_cycle_publishes_stamped_joints_endpoints_and_grippers(node):
     node._loop_once()
-    joints = node._joint_pub.messages[-1]
+    joints = node._publishers.joints.messages[-1]
     assert joints.header.stamp == rospy.Time(12, 500000000)
     assert len(joints.name) == len(joints.position) == len(joints.velocity) == len(joints.effort)
     positions = dict(zip(joints.name, joints.position))
     for side in ('left', 'right'):
-        endpoint = node._endpoint_pub[side].messages[-1]
+        endpoint = node._publishers.endpoints[side].messages[-1]
         assert endpoint.header.frame_id == 'base' and endpoint.header.stamp == joints.header.stamp
         (x, y, z), (qx, qy, qz, qw) = bd.load().pose(positions, '%s_gripper' % side)
         p, o = endpoint.pose.position, endpoint.pose.orientation
         assert (p.x, p.y, p.z, o.x, o.y, o.z, o.w) == (x, y, z, qx, qy, qz, qw)
-        gripper = node._gripper_pub[side].messages[-1]
+        gripper = node._publishers.grippers[side].messages[-1]
         assert gripper.timestamp == joints.header.stamp and gripper.id == baxter_api.GRIPPER_ID
         assert gripper.position == 100.0 and gripper.calibrated and not gripper.enabled
     assert node._state_pub.messages == []   # /robot/state every fifth cycle only
@@ -85,13 +88,13 @@ def test_commands_log_refusals_and_publish_changes_of_the_robot_state(node):
 
 
 def test_the_publishing_loop_survives_an_exception_and_logs_the_count(node):
-    node._joint_pub = Recorder(failures=2)
+    node._publishers.joints = Recorder(failures=2)
     loop = Loop(node._guard, 'publishing loop', 0.005, node._loop_once).start()
     deadline = time.monotonic() + 10.0
-    while len(node._joint_pub.messages) < 10 and time.monotonic() < deadline:
+    while len(node._publishers.joints.messages) < 10 and time.monotonic() < deadline:
         time.sleep(0.01)
     loop.stop()
-    assert len(node._joint_pub.messages) >= 10   # it kept running after the exceptions
+    assert len(node._publishers.joints.messages) >= 10   # it kept running after the exceptions
     assert node._guard.errors == 2
     errors = [text for level, text in node.logs if level == 'logerr']
     assert len(errors) == 1                     # the second one within 5 s is counted, not logged
@@ -100,14 +103,14 @@ def test_the_publishing_loop_survives_an_exception_and_logs_the_count(node):
 
 def test_a_cycle_publishes_every_io_and_head_state_with_its_type(node):
     node._loop_once()
-    for topic, kind in baxter_api.io_publications():
-        messages = node._io_pub[topic].messages
+    for topic, kind in baxter_topics.io_publications():
+        messages = node._publishers.io[topic].messages
         assert len(messages) == 1 and messages[0]._type == kind, topic
-    cuff = node._io_pub['/robot/digital_io/left_lower_cuff/state'].messages[0]
+    cuff = node._publishers.io['/robot/digital_io/left_lower_cuff/state'].messages[0]
     assert (cuff.state, cuff.isInputOnly) == (0, True)
-    light = node._io_pub['/robot/digital_io/torso_right_outer_light/state'].messages[0]
+    light = node._publishers.io['/robot/digital_io/torso_right_outer_light/state'].messages[0]
     assert light.isInputOnly is False
-    analog = node._io_pub['/robot/analog_io/left_hand_range/state'].messages[0]
+    analog = node._publishers.io['/robot/analog_io/left_hand_range/state'].messages[0]
     assert isinstance(analog, AnalogIOState) and analog.timestamp == rospy.Time(12, 500000000)
-    head = node._io_pub['/robot/head/head_state'].messages[0]
+    head = node._publishers.io['/robot/head/head_state'].messages[0]
     assert isinstance(head, HeadState) and head.isPanEnabled and head.pan == 0.0

@@ -109,7 +109,7 @@ def test_a_request_returns_all_settings_with_good_values_rounded_to_float32():
     ('[joint_0]\npid_kp = fast\n', "pid_kp = 'fast': not a number"),
     ('[joint_0]\nsign_angle = 2\n', 'sign_angle = 2: invalid'),
     ('[joint_0]\npid_ki = nan\n', 'pid_ki = nan: invalid'),
-    ('[joint_0]\nangle_min = 1\nangle_max = 0.5\n', 'angle_min = 1.0 is above angle_max'),
+    ('[joint_0]\nangle_min = 1\nangle_max = 0.5\n', 'angle_min = 1: above angle_max = 0.5'),
 ])
 def test_parse_reports_and_repairs_malformed_text(text, problem):
     config, problems = config_store.parse(text)

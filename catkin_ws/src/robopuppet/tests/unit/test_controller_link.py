@@ -1,13 +1,13 @@
 """arm_X with the puppet on another host (robopuppet.arm.controller with arm.link_watch): no
 following before the operator clock is known, late samples dropped and a stream of them stale,
 out-of-order samples, a burst after a delay spike, a lost clock, and the link's report. Fed as
-the node feeds it (see test_arm_controller.Rig: the operator clock runs 37.5 s ahead of the
+the node feeds it (see test_controller.Rig: the operator clock runs 37.5 s ahead of the
 robot's)."""
 import pytest
 
 from robopuppet import interface, settings
 from robopuppet.arm import controller, link_watch, timing
-from test_arm_controller import LIMITS, PERIOD_S, POSE, Rig, ready
+from test_controller import LIMITS, PERIOD_S, POSE, Rig, ready
 
 BOUND_S = timing.DEFAULT_MAX_SAMPLE_AGE_S
 
@@ -31,7 +31,7 @@ def following():
 
 def link_report(rig):
     rig.core.link._report_s = None   # due now
-    return rig.core.link_report(rig.t, rig.now_s())
+    return rig.core.link_report(rig.now_s())
 
 
 def test_nothing_follows_before_the_operator_host_has_answered_a_ping():
@@ -164,7 +164,7 @@ def test_late_samples_for_the_state_timeout_fault_naming_the_newest_age_as_stale
     assert rig.core.teleop.state == interface.READY
     assert [c for _, out in outs for c in commands(out)] == []
     assert link_report(rig).fault == 'network'   # the drops of the last 5 s: a warning
-    rig.core.teleop.on_button(rig.t, interface.BUTTON_RIGHT)
+    rig.core.on_button(interface.BUTTON_RIGHT)
     approach = [c for _, out in operator.run(0.2, angles=hand) for c in commands(out)]
     previous = POSE['right']
     for command in approach:

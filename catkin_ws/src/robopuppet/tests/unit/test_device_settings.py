@@ -305,6 +305,17 @@ def test_a_failed_write_loads_everything_again_after_the_retry_time():
     assert clock.now >= failed_at + device_settings.RETRY_S
 
 
+def test_a_write_that_fails_after_it_was_taken_loads_everything_again_after_the_retry_time():
+    sync, device, clock, log = loaded()
+    failed_at = clock.now
+    sync.write_failed()   # e.g. the port refused a write the node had queued
+    assert sync.loaded_since_s is None and sync.held(0) is None
+    assert sync.next_step_s == failed_at + device_settings.RETRY_S
+    assert len(log.warnings) == 1 and 'a write to the device failed' in log.warnings[0]
+    run(sync, clock)
+    assert len(device.take()) == 85 and clock.now >= failed_at + device_settings.RETRY_S
+
+
 @pytest.mark.parametrize('joints, problem', [
     (lambda s: [(j, v) for j, v in s.items() if j != 3], 'joints'),
     (lambda s: list(s.items()) + [(3, s[3])], 'joints'),
@@ -316,9 +327,10 @@ def test_a_failed_write_loads_everything_again_after_the_retry_time():
     (lambda s: [(j, dict(v, pid_kp=-1.0) if j == 0 else v) for j, v in s.items()],
      'joint 0 pid_kp = -1.0: outside its bound'),
     (lambda s: [(j, dict(v, angle_min=1.0, angle_max=0.5) if j == 6 else v)
-                for j, v in s.items()], 'joint 6 angle_min = 1.0 is above angle_max'),
+                for j, v in s.items()], 'joint 6 angle_min = 1.0: above angle_max = 0.5'),
     (lambda s: [(j, dict(v, velocity_min=-1.0, velocity_max=-0.5) if j == 1 else v)
-                for j, v in s.items()], 'joint 1 velocity_min..velocity_max = -1.0..-0.5'),
+                for j, v in s.items()],
+     'joint 1 velocity_min..velocity_max = -1..-0.5: the range must hold 0'),
 ])
 def test_bad_stored_settings_are_logged_and_the_previous_ones_kept(joints, problem):
     sync, device, clock, log = loaded()

@@ -2,18 +2,15 @@
 import math
 import os
 import threading
-import types
 
 os.environ.setdefault('QT_QPA_PLATFORM', 'offscreen')
 
 import pytest  # noqa: E402
-from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus  # noqa: E402
 from PyQt5 import QtCore, QtGui  # noqa: E402
 
 from robopuppet import settings  # noqa: E402
 from robopuppet.config import config_store  # noqa: E402
-from robopuppet.gui import (joint_tab, look, main_tab, puppet_client,  # noqa: E402
-                            settings_form, state)
+from robopuppet.gui import joint_tab, look, main_tab, settings_form, state  # noqa: E402
 from robopuppet.gui.puppet_client import ConfigUnavailable, SetAnswer  # noqa: E402
 from robopuppet.gui.window import Window  # noqa: E402
 from robopuppet.puppet_sim.puppet_arm import REST_POSE_RAD  # noqa: E402
@@ -49,7 +46,7 @@ class FakeClient:
         self.published.append(('setpoint', joint, angle_rad))
 
     def recording_status(self):
-        return None  # no recorder: test_episodes_gui.py tests the Recording box
+        return None  # no recorder: test_recording_box.py tests the Recording box
 
     def episodes_dir(self):
         return '/nonexistent/robopuppet/episodes'  # test_replay_box.py tests the replay control
@@ -160,18 +157,6 @@ def test_each_opmode_radio_publishes_its_mode(qtbot, window, client):
     window.frame()
     assert [r.isChecked() for r in (tab.limp_radio, tab.hold_radio, tab.feel_radio)] == [
         False, False, True]
-
-
-@pytest.mark.parametrize('mode, first', [('hold', [('setpoint', 2, 0.4)]),
-                                         ('feel', [('setpoint', 2, 0.4)]), ('limp', [])])
-def test_the_client_sends_the_current_angles_before_hold_and_feel(mode, first):
-    sent = []
-    fake = types.SimpleNamespace(
-        state=state.ArmState(), set_setpoint=lambda j, a: sent.append(('setpoint', j, a)),
-        _opmode_pub=types.SimpleNamespace(publish=lambda msg: sent.append(('opmode', msg.data))))
-    fake.state.on_angle(2, 0.4, 1.0)  # the other joints' angles are unknown: no setpoint
-    puppet_client.PuppetClient.set_opmode(fake, mode)
-    assert sent == first + [('opmode', mode)]
 
 
 BAXTER_ARM = {'left': [0.3, -0.2, 0.5, 1.0, -0.4, 0.9, 1.2],
@@ -420,23 +405,6 @@ def test_a_hung_config_node_does_not_freeze_the_window(qtbot, client, monkeypatc
     join_config_calls()
     QtCore.QCoreApplication.processEvents()
     assert tab.fields['pid_kp'].text() == '0.5' and 'no answer' in tab.message.text()
-
-
-def test_the_link_status_is_found_by_namespace_and_name_whatever_the_node_is_called():
-    ns = '/puppet/arm_R'
-    link = DiagnosticStatus(level=1, name='my_serial: puppet serial link', message='slow',
-                            hardware_id=ns)
-    others = [
-        DiagnosticStatus(name='serial_R: puppet serial link', hardware_id='/dev/ttyACM0'),
-        DiagnosticStatus(name='serial_L: puppet serial link', hardware_id='/puppet/arm_L'),
-        DiagnosticStatus(name='arm_R: teleoperation', hardware_id=ns),
-    ]
-    assert puppet_client.is_link_status(link, ns)
-    assert not any(puppet_client.is_link_status(status, ns) for status in others)
-    arm = state.ArmState()
-    fake = types.SimpleNamespace(ns=ns, state=arm, _clock=lambda: 7.0)
-    puppet_client.PuppetClient._on_diagnostics(fake, DiagnosticArray(status=others + [link]))
-    assert arm.snapshot().link == state.Link(1, 'my_serial: puppet serial link', 'slow', (), 7.0)
 
 
 def test_setpoint_is_checked_against_the_stored_limits(qtbot, client):

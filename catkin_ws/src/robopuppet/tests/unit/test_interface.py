@@ -1,4 +1,7 @@
-"""The interface table agrees with the messages and the wire it names."""
+"""The interface table agrees with the messages and the wire it names, and is the only one."""
+import ast
+import pathlib
+
 import pytest
 
 from robopuppet import interface, settings
@@ -45,3 +48,43 @@ def test_baxter_topics_are_rethinks():
 def test_a_bad_side_is_refused(side):
     with pytest.raises(ValueError, match="'L' or 'R'"):
         interface.puppet_ns(side)
+
+
+@pytest.mark.parametrize('topic, name, camera', [
+    ('/cameras/room_camera/image/compressed', interface.CAMERA_COMPRESSED, 'room_camera'),
+    ('/cameras/room_camera/image', interface.CAMERA_COMPRESSED, None),
+    ('/cameras/a/b/image/compressed', interface.CAMERA_COMPRESSED, None),
+    ('/cameras//image/compressed', interface.CAMERA_COMPRESSED, None),
+    ('/robot/x/image/compressed', interface.CAMERA_COMPRESSED, None),
+    ('/cameras/head_camera/camera_info', interface.CAMERA_INFO, 'head_camera'),
+])
+def test_camera_of_topic_inverts_camera_topic(topic, name, camera):
+    assert interface.camera_of_topic(topic, name) == camera
+    if camera:
+        assert interface.camera_topic(camera, name) == topic
+
+
+def test_node_names_are_the_launch_files():
+    assert interface.node_param('arm', 'R', 'comm_rate') == '/arm_R/comm_rate'
+    assert interface.ini_file_name('L') == 'arm_L.ini'
+    assert interface.hand_camera('left') == 'left_hand_camera' in interface.BAXTER_CAMERAS
+
+
+NAMESPACES = ('/robot', '/puppet', '/cameras', '/robopuppet', '/diagnostics', '/baxter_sim',
+              '/ExternalTools', '/arm_', '/config_', '/serial_', '/rethink')
+
+
+def test_only_the_interface_table_spells_a_topic_name():
+    # One place per name: the library builds every topic, service and parameter name of the
+    # system from interface.py.
+    source = pathlib.Path(interface.__file__).parent
+    found = []
+    for path in sorted(source.rglob('*.py')):
+        if path.name == 'interface.py':
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            if (isinstance(node, ast.Constant) and isinstance(node.value, str)
+                    and node.value.startswith(NAMESPACES) and '\n' not in node.value
+                    and ' ' not in node.value):
+                found.append('%s:%d %r' % (path.relative_to(source), node.lineno, node.value))
+    assert found == []

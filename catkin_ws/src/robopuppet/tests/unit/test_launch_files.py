@@ -10,7 +10,6 @@ import roslaunch.config
 import rospkg
 
 from robopuppet import interface
-from robopuppet.calibration import procedure
 
 LAUNCH_DIR = os.path.join(os.path.dirname(__file__), '..', '..', 'launch')
 TEST_DIR = os.path.join(os.path.dirname(__file__), '..', 'integration')
@@ -18,8 +17,8 @@ LAUNCH = os.path.join(LAUNCH_DIR, 'arm.launch')
 LAUNCH_FILES = ('arm.launch', 'puppet.launch', 'main_sim.launch', 'baxter_sim.launch',
                 'ghost.launch', 'recorder.launch', 'operator.launch', 'robot.launch',
                 'diagnostics.launch')
-# The seed's Table 5 defaults, but frame_rate: 30 Hz (pyqtgraph) where the 2020 Tk GUI used 8.
-TABLE_5 = {'arm_side': 'L', 'port_name': '/dev/ttyACM0', 'comm_rate': '10.0',
+# The 2020 system's launch defaults, but frame_rate: 30 Hz (pyqtgraph) where the 2020 Tk GUI used 8.
+LAUNCH_2020 = {'arm_side': 'L', 'port_name': '/dev/ttyACM0', 'comm_rate': '10.0',
            'frame_rate': '30.0', 'debug_mode': 'true'}
 # An argument that a file declares with another default than the file it includes, on purpose.
 OVERRIDES = {('main_sim.launch', 'run_side_L'): 'the simulated system runs the right arm only',
@@ -92,7 +91,7 @@ def defaults_that_disagree(launch_dir, overrides=()):
 
 def test_arguments_of_table_5_plus_sim_puppet_and_gui_all_documented():
     args = {a.get('name'): a for a in ET.parse(LAUNCH).getroot().iter('arg')}
-    for name, default in dict(TABLE_5, sim_puppet='false', gui='false').items():
+    for name, default in dict(LAUNCH_2020, sim_puppet='false', gui='false').items():
         assert args[name].get('default') == default, name
     assert all(a.get('doc') for a in args.values())
 
@@ -142,7 +141,7 @@ def test_puppet_launch_runs_without_arguments():
 
 @pytest.mark.parametrize('launch', ['puppet.launch', 'operator.launch'])
 def test_a_puppet_alone_defaults_to_arm_launchs_port(launch):
-    arm_default = TABLE_5['port_name']
+    arm_default = LAUNCH_2020['port_name']
     for side, other in (('L', 'R'), ('R', 'L')):
         _, params = load('run_side_%s:=false' % other, 'gui:=false', 'rviz:=false',
                          launch=os.path.join(LAUNCH_DIR, launch))
@@ -261,7 +260,7 @@ def test_the_ghost_has_a_prefixed_description_and_its_own_state_publisher(launch
     target = ET.fromstring(config.params['/target/robot_description'].value)
     assert target.find('link').get('name').startswith('target/')
     assert config.params['/target/ghost/prefix'].value == 'target/'
-    assert config.params['/target/ghost/target_topic'].value == procedure.TARGET_TOPIC
+    assert config.params['/target/ghost/target_topic'].value == interface.CALIBRATION_TARGET
     if launch == 'operator.launch':  # the robot host (or Baxter) publishes the description
         assert '/robot_description' not in config.params
         rviz, = (n for n in load_config(launch=os.path.join(LAUNCH_DIR, launch)).nodes

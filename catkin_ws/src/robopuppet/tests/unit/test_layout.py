@@ -1,45 +1,54 @@
-"""The library's imports run downward only: node adapters -> pure cores -> shared tables.
+"""The library's imports run downward only, and its modules keep their sizes.
 
-The map (folder, role, what it may import) is robopuppet/__init__.py's docstring; LAYERS below
-is the same map as data. A pure core must not import rospy, ROS message packages or Qt, and no
-module may import a node adapter (only the executables in nodes/ do).
+The map (folder, what it may import, which modules talk to ROS) is written once, in
+robopuppet/__init__.py's docstring; this test reads it there. A pure core must not import rospy,
+ROS message packages or Qt; no module may import a node adapter (only the executables in nodes/
+do); a ROS adapter is at most 150 lines and any other module at most 300, but for SIZE_EXCEPTIONS.
 """
 import ast
 import pathlib
+import re
 
 import pytest
 
 SRC_DIR = pathlib.Path(__file__).resolve().parents[2] / 'src' / 'robopuppet'
+ADAPTER_LINES = 150
+MODULE_LINES = 300
+# module -> why it stays over its size (a split would scatter one thing over two files).
+SIZE_EXCEPTIONS = {
+    'episodes.recorder_node': 'its callbacks take its two locks (an episode\'s start or stop with '
+                              'its subscriptions, then the Recorder) in one order, readable in one '
+                              'place; its pure work is in session, recording, recorder_params and '
+                              'recorder_claim',
+}
 
-# subsystem -> the subsystems it may import (besides itself and the shared tables).
-LAYERS = {
-    'tables': set(),
-    'config': set(),
-    'baxter_sim': {'world'},
-    'protocol': set(),
-    'arm': {'world'},
-    'puppet_sim': {'protocol'},
-    'calibration': set(),
-    'gui': {'arm', 'calibration', 'config', 'episodes', 'puppet_sim'},
-    'ghost': {'arm'},
-    'episodes': {'arm', 'config'},
-    'cameras': {'world'},
-    'world': set(),
-}
-# The modules that may talk to ROS: the node adapters (named *_node; only the executables in
-# nodes/ import them) and the adapters they use.
-ADAPTERS = {
-    'config.config_node', 'protocol.serial_node', 'arm.arm_node', 'arm.link_topics',
-    'arm.zone_topics',
-    'puppet_sim.puppet_sim_node', 'baxter_sim.baxter_sim_node', 'gui.gui_node',
-    'gui.puppet_client', 'ghost.ghost_node', 'calibration.calibrate_node',
-    'episodes.export_files', 'episodes.recorder_node', 'episodes.episode_files',
-    'episodes.replay_node', 'episodes.puppet_player', 'episodes.player',
-    'cameras.camera_node', 'cameras.republish_node', 'gui.camera_client',
-    'cameras.sim_camera_node', 'cameras.node_loops',
-    'link_recovery',   # the nodes' shared watch on rospy's connections across the link
-    'shape_markers',   # RViz markers of shapes: the zones (arm_X) and the room (sim_cameras)
-}
+
+def layer_map(docstring):
+    """Return ({subsystem: the subsystems it may import}, {ROS adapter}) from the map's text.
+
+    The subsystems are the table's folders ('tables' for the top level); the ROS adapters are
+    the dotted names listed under 'ROS adapters besides the nodes:'.
+    """
+    layers, folder = {}, None
+    for line in docstring.splitlines():
+        cells = [c.strip() for c in line.split('|')[1:-1]]
+        if len(cells) != 3 or set(cells[0]) <= set('-') and cells[0]:
+            continue
+        if cells[0] == 'folder':
+            continue
+        if cells[0]:
+            folder = 'tables' if cells[0] == '(top level)' else cells[0].rstrip('/')
+            layers[folder] = set()
+        layers[folder] |= {name for name in re.split(r'[,\s]+', cells[1]) if name}
+    for folder, allowed in layers.items():
+        allowed.discard('tables')
+        allowed.discard(folder)
+    listed = docstring.split('ROS adapters besides the nodes:', 1)[1].split('\n\n', 1)[0]
+    adapters = set(re.findall(r'^- `([\w.]+)`', listed, re.MULTILINE))
+    return layers, adapters
+
+
+LAYERS, ADAPTERS = layer_map(ast.get_docstring(ast.parse((SRC_DIR / '__init__.py').read_text())))
 # The GUI's widgets are Qt by nature; they may import Qt but not rospy.
 QT_MODULES_OK = 'gui'
 ROS_MODULES = {'rospy', 'rospkg', 'rosgraph', 'rosbag', 'genpy', 'roslib', 'tf2_ros',
@@ -91,6 +100,11 @@ def robopuppet_targets(names, modules):
     return targets
 
 
+def is_adapter(module):
+    """Return whether the map lets a module talk to ROS (a node or a listed adapter)."""
+    return module.endswith('_node') or module in ADAPTERS
+
+
 def problems(module, names, modules):
     """Return what is wrong with `module` (dotted, below robopuppet) importing `names`."""
     found = []
@@ -103,7 +117,7 @@ def problems(module, names, modules):
         if target.endswith('_node'):
             found.append('%s imports the node adapter %s' % (module, target))
     roots = {name.split('.')[0] for name in names}
-    if module not in ADAPTERS:
+    if not is_adapter(module):
         if roots & ROS_MODULES:
             found.append('%s is a pure core but imports %s' % (module, sorted(roots & ROS_MODULES)))
         if roots & QT_MODULES and own != QT_MODULES_OK:
@@ -117,8 +131,53 @@ MODULES = library_modules()
 def test_the_layer_map_names_the_folders():
     folders = {p.name for p in SRC_DIR.iterdir() if p.is_dir() and p.name != '__pycache__'}
     assert folders == set(LAYERS) - {'tables'}
-    assert set(ADAPTERS) <= set(MODULES)
-    assert {m for m in MODULES if m.endswith('_node')} <= ADAPTERS
+    assert ADAPTERS <= set(MODULES)
+    assert all(allowed <= set(LAYERS) for allowed in LAYERS.values())
+
+
+def test_the_map_lists_only_modules_that_talk_to_ros():
+    # A listed module that no longer imports ROS would switch the pure-core check off for nothing.
+    assert [m for m in sorted(ADAPTERS) if not set(
+        name.split('.')[0] for name in imports_of(MODULES[m])) & ROS_MODULES] == []
+
+
+def test_the_map_reads_its_table_and_list():
+    layers, adapters = layer_map("""
+| folder      | may import        | what |
+|-------------|-------------------|------|
+| (top level) | tables            | a    |
+| a/          | tables, b         | b    |
+|             | c                 | c    |
+
+ROS adapters besides the nodes:
+- `a.x`: why
+- `b.y`: why
+
+Not this: `c.z`.
+""")
+    assert layers == {'tables': set(), 'a': {'b', 'c'}}
+    assert adapters == {'a.x', 'b.y'}
+
+
+def line_limit(module):
+    """Return the most lines a module may have: 150 for a ROS adapter, else 300."""
+    return ADAPTER_LINES if is_adapter(module) else MODULE_LINES
+
+
+@pytest.mark.parametrize('module', sorted(m for m in MODULES if m))
+def test_modules_keep_their_size(module):
+    lines = len(MODULES[module].read_text().splitlines())
+    if module in SIZE_EXCEPTIONS:
+        assert lines > line_limit(module), '%s is back within its size: drop its exception' % module
+    else:
+        assert lines <= line_limit(module), (
+            '%s has %d lines, over %d: split it by responsibility (house style "Size")'
+            % (module, lines, line_limit(module)))
+
+
+def test_every_size_exception_is_a_module_with_a_reason():
+    assert set(SIZE_EXCEPTIONS) <= set(MODULES)
+    assert all(len(reason) > 20 for reason in SIZE_EXCEPTIONS.values())
 
 
 @pytest.mark.parametrize('module', sorted(m for m in MODULES if m))
@@ -139,3 +198,26 @@ def test_the_checker_catches_violations(tmp_path, module, source, expected):
     path.write_text(source + '\n')
     found = problems(module, imports_of(path), MODULES)
     assert found and expected in found[0]
+
+
+# Unit tests of what is not a library module: the tree, the docs, the launch files, the
+# messages, the tests' own fixtures, and the GUI's window as a whole.
+WHOLE_TREE_TESTS = {'layout', 'architecture_doc', 'launch_files', 'baxter_msgs', 'hand_pose',
+                    'gui_operator', 'gui_widgets'}
+
+
+def module_tested_by(test_name):
+    """Return the library module a unit test file is named after (test_<module>[_<aspect>]),
+    or None."""
+    parts = test_name[len('test_'):].split('_')
+    names = {m.rpartition('.')[2] for m in MODULES if m}
+    prefixes = ['_'.join(parts[:n]) for n in range(len(parts), 0, -1)]
+    return next((p for p in prefixes if p in names), None)
+
+
+def test_each_unit_test_file_is_named_after_its_module():
+    tests = sorted(p.stem for p in pathlib.Path(__file__).parent.glob('test_*.py'))
+    unnamed = [t for t in tests if module_tested_by(t) is None
+               and not any(t == 'test_' + w or t.startswith('test_%s_' % w)
+                           for w in WHOLE_TREE_TESTS)]
+    assert unnamed == [], 'name each after the module it tests: test_<module>[_<aspect>].py'

@@ -7,8 +7,8 @@ from robopuppet import settings
 from robopuppet.protocol import codec
 from robopuppet.puppet_sim.puppet_arm import (COULOMB_FRICTION_NM, HAND_GRIP_S, HAND_YIELD_V,
                                               NOMINAL_VOLTAGE_V, STALL_TORQUE_NM)
-from robopuppet.puppet_sim.puppet_model import (POWER_ON_SETTINGS, QUAD_JOINTS, REST_POSE_RAD,
-                                                PuppetFirmware)
+from robopuppet.puppet_sim.puppet_encoders import QUAD_JOINTS
+from robopuppet.puppet_sim.puppet_model import POWER_ON_SETTINGS, REST_POSE_RAD, PuppetFirmware
 
 ID = settings.CONFIG_ID
 # Limits a host loads before it expects the puppet to move or hold (the power-on ones are

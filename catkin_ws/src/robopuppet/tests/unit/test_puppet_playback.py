@@ -45,6 +45,13 @@ def ready(paths, here=START, t=0.0, stored_settings=None, **kwargs):
     return core
 
 
+def started(paths, *args, **kwargs):
+    """A playback as ready() makes it, started at time 0."""
+    core = ready(paths, *args, **kwargs)
+    core.start(0.0)
+    return core
+
+
 def run(core, t0, t1, follow=True):
     """Step from t0 to t1; the puppet measures its setpoints when follow (a stiff PID)."""
     steps, t = [], t0
@@ -70,8 +77,7 @@ def test_the_approach_moves_at_the_approach_speed_and_never_steps():
     far = list(START)
     far[0] += 0.3   # 0.3 rad away at 0.3 rad/s: 1 s of approach
     far[5] -= 0.15
-    core = ready(ramp(), far)
-    core.start(0.0)
+    core = started(ramp(), far)
     steps = run(core, 0.0, 3.0)
     approach = [(t, s.setpoints['R']) for t, s in steps if s.phase == APPROACH]
     previous = far
@@ -87,8 +93,7 @@ def test_the_approach_moves_at_the_approach_speed_and_never_steps():
 def test_the_episode_plays_once_the_puppet_measures_the_start_pose_or_after_a_while():
     far = list(START)
     far[1] += 0.2
-    core = ready(ramp(), far)
-    core.start(0.0)
+    core = started(ramp(), far)
     steps = run(core, 0.0, 3.0, follow=False)  # held back: it never gets there
     assert all(s.phase == APPROACH for _, s in steps)
     core.on_puppet(3.0, 'R', [a + 0.015 for a in START])  # within 0.02 rad
@@ -103,8 +108,7 @@ def test_the_episode_plays_once_the_puppet_measures_the_start_pose_or_after_a_wh
 
 @pytest.mark.parametrize('speed', [0.5, 1.0, 2.0])
 def test_the_recorded_timing_times_the_speed_factor(speed):
-    core = ready(ramp(), speed=speed)
-    core.start(0.0)
+    core = started(ramp(), speed=speed)
     steps = run(core, 0.0, 2.0 / speed + 0.5)
     play_t = [t for t, s in steps if s.phase == APPROACH][-1]  # episode time 0 (5.0 s recorded)
     at = [s for t, s in steps if abs(t - play_t - 0.4) < 1e-9][0]
@@ -131,8 +135,7 @@ def test_a_jump_in_the_recording_is_played_at_the_play_speed_or_the_stored_limit
     for limits, speed in ((None, pp.PLAY_SPEED_RAD_S),
                           (stored({(0, 'velocity_max'): 0.5}), 0.5),
                           (stored({(0, 'velocity_min'): -0.8}), 0.8)):
-        core = ready(path, stored_settings=limits, speed=2.0)
-        core.start(0.0)
+        core = started(path, stored_settings=limits, speed=2.0)
         setpoints = [s.setpoints['R'] for _, s in run(core, 0.0, 4.0) if s.phase == PLAY]
         steps = [abs(b[0] - a[0]) for a, b in zip(setpoints, setpoints[1:])]
         assert max(steps) == pytest.approx(speed * PERIOD_S)  # the bound, and reached
@@ -141,8 +144,7 @@ def test_a_jump_in_the_recording_is_played_at_the_play_speed_or_the_stored_limit
 
 def test_setpoints_stay_within_the_stored_angle_limits():
     path = ramp(joint=0, rise_rad=0.6)                 # recorded up to 0.7 rad
-    core = ready(path, stored_settings=stored({(0, 'angle_max'): 0.45}))
-    core.start(0.0)
+    core = started(path, stored_settings=stored({(0, 'angle_max'): 0.45}))
     steps = run(core, 0.0, 4.0)
     assert core.limit_source['R'] == 'the stored settings'
     assert max(s.setpoints['R'][0] for _, s in steps if s.setpoints) == pytest.approx(0.45)
@@ -177,8 +179,7 @@ def test_stored_limits_that_are_no_range_are_refused():
     (lambda core, t: core.on_status(t, 'R', 2, UNCALIBRATED), 'joint 2 is Uncalibrated'),
 ])
 def test_a_stop_holds_the_last_setpoints_at_once(stop, why):
-    core = ready(ramp())
-    core.start(0.0)
+    core = started(ramp())
     steps = run(core, 0.0, 1.0)
     assert steps[-1][1].phase == PLAY
     last = steps[-1][1].setpoints['R']
@@ -190,8 +191,7 @@ def test_a_stop_holds_the_last_setpoints_at_once(stop, why):
 
 
 def test_other_buttons_do_not_stop():
-    core = ready(ramp())
-    core.start(0.0)
+    core = started(ramp())
     run(core, 0.0, 0.5)
     core.on_button(0.5, 'R', BUTTON_RIGHT)   # Baxter follows, as she chooses
     core.on_button(0.5, 'R', 0)
@@ -199,8 +199,7 @@ def test_other_buttons_do_not_stop():
 
 
 def test_a_limp_from_another_node_stops_and_that_side_stays_limp():
-    core = ready(ramp())
-    core.start(0.0)
+    core = started(ramp())
     run(core, 0.0, 1.0)
     core.on_opmode(1.0, 'R', HOLD, '/gui_R')   # a hold changes nothing
     assert core.phase == PLAY
@@ -211,8 +210,7 @@ def test_a_limp_from_another_node_stops_and_that_side_stays_limp():
 
 
 def test_button_1_then_arm_x_releasing_the_puppet_it_held_leaves_it_limp():
-    core = ready(ramp())
-    core.start(0.0)
+    core = started(ramp())
     run(core, 0.0, 1.0)
     core.on_button(1.0, 'R', BUTTON_OPMODE)
     assert core.step(1.02).setpoints                     # the stay goes out at once
@@ -222,8 +220,7 @@ def test_button_1_then_arm_x_releasing_the_puppet_it_held_leaves_it_limp():
 
 
 def test_a_puppet_going_silent_stops_the_playback():
-    core = ready(ramp())
-    core.start(0.0)
+    core = started(ramp())
     run(core, 0.0, 1.0)
     last = core.step(1.0).setpoints['R']
     step = core.step(1.0 + pp.SILENT_S + 0.01)   # no joint states since t = 1.0
@@ -283,8 +280,7 @@ def hold_back(core, t0, t1, angles, volts, side='R'):
 
 def test_a_puppet_that_does_not_follow_goes_limp_and_says_why():
     # The new user's puppet: held where it is, every motor at its voltage limit.
-    core = ready(ramp(rise_rad=1.0))
-    core.start(0.0)
+    core = started(ramp(rise_rad=1.0))
     steps = hold_back(core, 0.0, 4.0, START, [7.2] * 7)
     play_t = next(t for t, s in steps if s.phase == PLAY)
     stop_t, stop = next((t, s) for t, s in steps if s.phase == STOPPED)
@@ -299,8 +295,7 @@ def test_a_puppet_that_does_not_follow_goes_limp_and_says_why():
 
 
 def test_a_motor_saturated_too_long_goes_limp_however_close():
-    core = ready(ramp(duration_s=3.0))
-    core.start(0.0)
+    core = started(ramp(duration_s=3.0))
     volts = [0.0, 0.0, -7.2, 0.0, 0.0, 0.0, 0.0]
     steps = hold_back(core, 0.0, 4.0, lambda sent: sent, volts)   # on its setpoints
     stop_t, stop = next((t, s) for t, s in steps if s.phase == STOPPED)
@@ -314,8 +309,7 @@ def test_a_motor_saturated_too_long_goes_limp_however_close():
 @pytest.mark.parametrize('off_rad, finished', [(tw.FINAL_TOLERANCE_RAD - 0.01, True),
                                                (tw.FINAL_TOLERANCE_RAD + 0.01, False)])
 def test_finished_only_when_the_puppet_measures_the_last_pose(off_rad, finished):
-    core = ready(ramp())
-    core.start(0.0)
+    core = started(ramp())
     steps = hold_back(core, 0.0, 8.0, lambda sent: [a + (off_rad if j == 5 else 0.0)
                                                      for j, a in enumerate(sent)], [1.0] * 7)
     play_t = next(t for t, s in steps if s.phase == PLAY)
@@ -335,8 +329,7 @@ def test_finished_only_when_the_puppet_measures_the_last_pose(off_rad, finished)
 
 
 def test_a_puppet_that_never_moves_and_reports_no_voltages_is_not_finished():
-    core = ready(ramp(rise_rad=1.0))
-    core.start(0.0)
+    core = started(ramp(rise_rad=1.0))
     steps = run(core, 0.0, 10.0, follow=False)       # no voltages: only the end is watched
     assert not any(s.phase == FINISHED for _, s in steps)
     assert core.phase == STOPPED and 'joint 3 1.00 rad from it at an unknown voltage' in core.why
@@ -364,8 +357,7 @@ def test_only_the_side_that_does_not_follow_goes_limp_the_other_holds():
 
 
 def test_the_guis_replay_box_shows_the_tracking_stop_in_the_players_words():
-    core = ready(ramp(rise_rad=1.0))
-    core.start(0.0)
+    core = started(ramp(rise_rad=1.0))
     hold_back(core, 0.0, 4.0, START, [-7.2] * 7)
     line = 'replay: stopped: %s; %s\n' % (core.why, core.outcome('R'))  # as puppet_player says
     shown = replay_control.exit_text(1, replay_control.state_from_line(line))

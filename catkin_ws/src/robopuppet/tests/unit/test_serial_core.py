@@ -41,7 +41,7 @@ class Rig:
         return received
 
     def facts(self, publishers=1):
-        return serial_core.LinkFacts(self.connected, 1, 0, 0, '', publishers)
+        return link_health.LinkFacts(self.connected, 1, 0, 0, '', publishers)
 
     def step(self, publishers=1):
         return self.core.step(self.facts(publishers))

@@ -12,6 +12,7 @@ import pytest
 
 from robopuppet import baxter_description as bd
 from robopuppet.cameras import gl_renderer, jpeg, meshes, scene, sim_cameras
+from robopuppet.world import shapes
 
 WIDTH, HEIGHT = 640, 480
 with open(bd.URDF_PATH) as _urdf:
@@ -39,7 +40,7 @@ def invisible_robot():
 
 def marker_world(point, radius_m, cameras=None):
     """Return a world holding only a red sphere at point (and the given fixed cameras)."""
-    marker = scene.Shape('marker', 'sphere', None, radius_m, None, tuple(point), (0, 0, 0),
+    marker = shapes.Shape('marker', 'sphere', None, radius_m, None, tuple(point), (0, 0, 0),
                          (1.0, 0.0, 0.0))
     return scene.World([marker], None, cameras or {})
 
@@ -178,7 +179,7 @@ def test_the_room_camera_sees_baxter_the_bed_and_the_patient(world_cameras):
 def test_a_zone_tints_what_lies_behind_it_red_without_hiding_it():
     # A thin wall across the room camera's view (it looks along about yaw 2.4 rad), a metre
     # in front of it.
-    zone = scene.parse_shape({'name': 'wall', 'type': 'box', 'size': [0.05, 6.0, 6.0],
+    zone = shapes.parse_shape({'name': 'wall', 'type': 'box', 'size': [0.05, 6.0, 6.0],
                               'xyz': [1.9, -1.25, 0.6], 'rpy': [0.0, 0.0, 2.4]})
     cameras = {}
     for zones in ([], [zone]):

@@ -33,7 +33,7 @@ class Rig:
             self.tp.on_heartbeat(self.t)
 
     def robot(self, enabled=True, pose=None):
-        self.tp.on_robot(self.t, enabled)
+        self.tp.on_robot(enabled)
         self.tp.on_robot_pose(self.t, pose or NEUTRAL)
 
     def step(self, dt=0.01, feed=True):
@@ -43,9 +43,9 @@ class Rig:
         return self.tp.step(self.t)
 
     def press(self, button):
-        self.tp.on_button(self.t, button)
+        self.tp.on_button(button)
         result = self.step()
-        self.tp.on_button(self.t, 0)
+        self.tp.on_button(0)
         return result
 
 
@@ -144,10 +144,10 @@ def test_left_puppet_holds_to_left_arm():
 def test_button_acts_once_per_press_however_long_it_is_held():
     rig = enter(READY)
     for _ in range(50):  # the serial node reports the held button with every state set
-        rig.tp.on_button(rig.t, BUTTON_RIGHT)
+        rig.tp.on_button(BUTTON_RIGHT)
         rig.step()
     assert rig.tp.state == FOLLOWING
-    rig.tp.on_button(rig.t, 0)
+    rig.tp.on_button(0)
     rig.step()
     assert rig.tp.state == FOLLOWING
     rig.press(BUTTON_RIGHT)
@@ -156,9 +156,9 @@ def test_button_acts_once_per_press_however_long_it_is_held():
 
 def test_going_from_one_button_to_another_is_a_press():
     rig = enter(READY)
-    rig.tp.on_button(rig.t, BUTTON_RIGHT)
+    rig.tp.on_button(BUTTON_RIGHT)
     rig.step()
-    rig.tp.on_button(rig.t, BUTTON_LEFT)
+    rig.tp.on_button(BUTTON_LEFT)
     rig.step()
     assert rig.tp.following == {'left': True, 'right': True}
     assert 'left and right arms' in rig.tp.detail
@@ -278,14 +278,14 @@ def test_fault_lets_a_holding_puppet_go_limp():
 def test_end_piece_closes_and_opens_the_following_grippers_only():
     rig = enter(READY)
     rig.press(BUTTON_RIGHT)
-    rig.tp.on_end_piece(rig.t, 0.05)
+    rig.tp.on_end_piece(0.05)
     assert rig.step().actions == [teleop.Grip('right', True)]
-    rig.tp.on_end_piece(rig.t, 0.5)  # between the thresholds: no change
+    rig.tp.on_end_piece(0.5)  # between the thresholds: no change
     assert rig.step().actions == []
-    rig.tp.on_end_piece(rig.t, 0.95)
+    rig.tp.on_end_piece(0.95)
     assert rig.step().actions == [teleop.Grip('right', False)]
     rig.press(BUTTON_RIGHT)
-    rig.tp.on_end_piece(rig.t, 0.0)
+    rig.tp.on_end_piece(0.0)
     assert rig.step().actions == []
 
 
@@ -345,7 +345,7 @@ def test_a_claim_that_is_not_renewed_expires():
 
 def test_watchdog_works_before_the_first_heartbeat():
     tp = teleop.Teleop('R', LIMITS)  # fed joint states, never a heartbeat
-    tp.on_robot(0.0, True)
+    tp.on_robot(True)
     tp.on_robot_pose(0.0, NEUTRAL)
     t = 0.0
     while True:
@@ -358,11 +358,11 @@ def test_watchdog_works_before_the_first_heartbeat():
     assert t == pytest.approx(interface.HEARTBEAT_TIMEOUT_S, abs=0.06)
     assert tp.heartbeat_age(t) == -1.0
     tp2 = teleop.Teleop('R', LIMITS)
-    tp2.on_robot(0.0, True)
+    tp2.on_robot(True)
     tp2.on_robot_pose(0.0, NEUTRAL)
     tp2.on_joint_states(0.0, WORKING, NEUTRAL['right'])
     tp2.step(0.0)
-    tp2.on_button(0.0, BUTTON_RIGHT)
+    tp2.on_button(BUTTON_RIGHT)
     assert tp2.step(0.01).commands
     assert tp2.step(0.01 + STATE_TIMEOUT_S + 0.01).commands == {
         'right': pytest.approx(NEUTRAL['right'])}  # stay where Baxter is
@@ -395,10 +395,10 @@ def test_nan_from_baxter_is_ignored():
 def test_entering_hold_sends_the_setpoints_once_before_the_opmode():
     rig = enter(READY)
     actions = []
-    rig.tp.on_button(rig.t, BUTTON_OPMODE)
+    rig.tp.on_button(BUTTON_OPMODE)
     for _ in range(100):
         actions += rig.step().actions
-        rig.tp.on_button(rig.t, 0)
+        rig.tp.on_button(0)
     assert actions == [opmode.SetSetpoints(NEUTRAL['right']), opmode.SetOpmode(HOLD)]
 
 
@@ -459,7 +459,7 @@ def test_stopping_to_follow_tells_baxter_to_stay_where_it_is():
 
 def test_a_failed_controller_faults_and_needs_a_new_press():
     rig = enter(FOLLOWING)
-    rig.tp.on_controller_failed(rig.t, 'OverflowError: too big')
+    rig.tp.on_controller_failed('OverflowError: too big')
     step = rig.step()
     assert rig.tp.state == FAULT and 'OverflowError' in rig.tp.detail
     assert step.commands == {'right': pytest.approx(NEUTRAL['right'])}

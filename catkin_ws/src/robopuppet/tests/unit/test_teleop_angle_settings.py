@@ -12,7 +12,7 @@ MEASURED = {'left': NEUTRAL['left'], 'right': [a + 0.003 for a in NEUTRAL['right
 def test_a_change_stops_the_following_arm_where_baxter_is():
     rig = enter(FOLLOWING)
     rig.robot(pose=MEASURED)
-    rig.tp.on_angle_settings(rig.t, "joint 0's home_angle")
+    rig.tp.on_angle_settings("joint 0's home_angle")
     assert rig.tp.following['right']   # decided at the next step
     step = rig.step()
     assert step.commands == {'right': pytest.approx(MEASURED['right'])}   # stay there
@@ -32,8 +32,8 @@ def test_both_arms_stop_and_changes_before_a_step_are_named_together():
     rig = enter(FOLLOWING)
     rig.press(BUTTON_LEFT)
     assert rig.tp.following == {'left': True, 'right': True}
-    rig.tp.on_angle_settings(rig.t, "joint 0's home_angle")
-    rig.tp.on_angle_settings(rig.t, "joint 2's sign_angle")
+    rig.tp.on_angle_settings("joint 0's home_angle")
+    rig.tp.on_angle_settings("joint 2's sign_angle")
     step = rig.step()
     assert set(step.commands) == {'left', 'right'}
     assert rig.tp.following == {'left': False, 'right': False}
@@ -43,8 +43,8 @@ def test_both_arms_stop_and_changes_before_a_step_are_named_together():
 
 def test_a_press_in_the_same_step_does_not_outlive_the_change():
     rig = enter(READY)
-    rig.tp.on_button(rig.t, BUTTON_RIGHT)
-    rig.tp.on_angle_settings(rig.t, "joint 1's angle_max")
+    rig.tp.on_button(BUTTON_RIGHT)
+    rig.tp.on_angle_settings("joint 1's angle_max")
     rig.step()
     assert not rig.tp.following['right']
     assert rig.tp.detail.startswith("joint 1's angle_max changed")
@@ -54,7 +54,7 @@ def test_a_press_in_the_same_step_does_not_outlive_the_change():
 def test_a_change_while_nothing_follows_changes_nothing(state):
     rig = enter(state)
     detail = rig.tp.detail
-    rig.tp.on_angle_settings(rig.t, "joint 0's home_angle")
+    rig.tp.on_angle_settings("joint 0's home_angle")
     assert rig.tp.step(rig.t + 0.01).commands == {}
     assert (rig.tp.state, rig.tp.detail) == (state, detail)
     rig.step()

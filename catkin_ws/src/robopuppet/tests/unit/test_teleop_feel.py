@@ -153,20 +153,20 @@ def test_feel_set_by_others_is_adopted_and_streams_at_once():
     rig = Rig()
     rig.robot(pose=POSE)
     rig.step()
-    assert rig.tp.on_opmode(rig.t, FEEL) == ''
+    assert rig.tp.on_opmode(FEEL) == ''
     assert rig.tp.opmode == FEEL
     assert rig.step(feed=False).actions == [SetSetpoints(RIGHT)]   # no opmode echoed back
-    assert rig.tp.on_opmode(rig.t, FEEL) == ''                     # a repeat: nothing new
+    assert rig.tp.on_opmode(FEEL) == ''                     # a repeat: nothing new
     assert rig.step(feed=False).actions == []
     assert rig.press(BUTTON_OPMODE).actions == [SetOpmode(LIMP)]   # the cycle goes on from it
 
 
 def test_limp_and_hold_set_by_others_are_adopted_and_the_cycle_goes_on_from_them():
     rig = feeling()
-    assert rig.tp.on_opmode(rig.t, LIMP) == ''    # serial_X's feel watchdog
+    assert rig.tp.on_opmode(LIMP) == ''    # serial_X's feel watchdog
     actions, _ = run(rig, 0.5)
     assert actions == []                          # no setpoints in limp
-    rig.tp.on_opmode(rig.t, HOLD)                 # the GUI's Hold
+    rig.tp.on_opmode(HOLD)                 # the GUI's Hold
     assert rig.step().actions == []               # the GUI sent its own setpoints
     rig.robot(pose=POSE)
     # The first press makes that hold arm_X's where the puppet is (a playback into the puppet
@@ -182,7 +182,7 @@ def test_a_hold_arm_x_set_itself_goes_on_to_feel_at_the_next_press():
     rig.robot(pose=POSE)
     rig.step()
     assert rig.press(BUTTON_OPMODE).actions == [SetSetpoints(RIGHT), SetOpmode(HOLD)]
-    rig.tp.on_opmode(rig.t, HOLD)                 # a repeat of its own mode changes nothing
+    rig.tp.on_opmode(HOLD)                 # a repeat of its own mode changes nothing
     rig.robot(pose=POSE)
     assert rig.press(BUTTON_OPMODE).actions == [SetSetpoints(RIGHT), SetOpmode(FEEL)]
 
@@ -191,13 +191,13 @@ def test_feel_set_by_others_without_baxter_goes_limp_and_says_why():
     rig = Rig()
     rig.robot(enabled=False, pose=POSE)
     rig.step()
-    rig.tp.on_opmode(rig.t, FEEL)
+    rig.tp.on_opmode(FEEL)
     assert rig.step().actions == [SetOpmode(LIMP)]
     assert 'feel ended (no_robot)' in rig.tp.detail
 
 
 def test_an_unknown_opmode_is_refused_with_a_warning():
     rig = feeling()
-    warning = rig.tp.on_opmode(rig.t, 'Feel')
+    warning = rig.tp.on_opmode('Feel')
     assert warning == "opmode must be one of limp/hold/feel, got 'Feel'; ignored"
     assert rig.tp.opmode == FEEL

@@ -84,7 +84,7 @@ def test_refused_samples_say_why_nothing_follows_yet():
     rig = Rig()
     rig.robot()
     rig.tp.on_refused(rig.t, "waiting for the operator host's echo", stale=True)
-    rig.tp.on_button(rig.t, BUTTON_RIGHT)
+    rig.tp.on_button(BUTTON_RIGHT)
     assert not rig.step(feed=False).commands
     assert rig.tp.state == CALIBRATING
     assert rig.tp.detail == "no usable puppet joint states yet: waiting for the operator " \
@@ -119,7 +119,7 @@ def test_after_a_stale_fault_only_fresh_data_and_a_press_follow_again_from_where
     hand[3] += 0.4
     assert not any(stream(rig, 1.0, hand))
     assert rig.tp.state == READY
-    rig.tp.on_button(rig.t, BUTTON_RIGHT)
+    rig.tp.on_button(BUTTON_RIGHT)
     commands = [c['right'] for c in stream(rig, 0.5, hand)]
     assert rig.tp.state == FOLLOWING and len(commands) == 50
     previous = NEUTRAL['right']   # where Baxter is

@@ -39,7 +39,7 @@ def run(tp, angles, t, steps):
         t += 0.01
         tp.on_joint_states(t, [interface.WORKING] * 7, angles)
         tp.on_heartbeat(t)
-        tp.on_robot(t, True)
+        tp.on_robot(True)
         tp.on_robot_pose(t, {'left': NEUTRAL, 'right': pose})   # Baxter where commanded
         pose = tp.step(t).commands.get('right', pose)
         commands.append(pose)
@@ -49,9 +49,9 @@ def run(tp, angles, t, steps):
 def following(tp):
     """Press button 3 with the puppet at NEUTRAL; return the time after."""
     t, _ = run(tp, NEUTRAL, 0.0, 2)
-    tp.on_button(t, interface.BUTTON_RIGHT)
+    tp.on_button(interface.BUTTON_RIGHT)
     t, _ = run(tp, NEUTRAL, t, 2)
-    tp.on_button(t, 0)
+    tp.on_button(0)
     assert tp.following['right']
     return t
 
@@ -63,15 +63,15 @@ def test_a_following_arm_is_held_at_a_zone_and_follows_again_out_of_it():
     assert all(guard.clearance(c).min() > 0.0 for c in commands)
     assert guard.clearance(commands[-1]).min() < zones.NEAR_M   # at the boundary ...
     assert np.linalg.norm(right_tip(commands[-1]) - right_tip(REACHING)) > 0.08   # ... not in
-    assert tp.zone_hits['right'].zone == 'ball'
+    assert tp.zones.hits['right'].zone == 'ball'
     assert (tp.zones.zone('left'), tp.zones.zone('right')) == ('', 'ball')
-    assert tp.detail == "held back by keep-out zone 'ball' (%s)" % tp.zone_hits['right'].link
-    assert tp.zone_hits['right'].link in ('right_gripper_base', 'r_gripper_l_finger',
+    assert tp.detail == "held back by keep-out zone 'ball' (%s)" % tp.zones.hits['right'].link
+    assert tp.zones.hits['right'].link in ('right_gripper_base', 'r_gripper_l_finger',
                                           'r_gripper_r_finger', 'right_hand')
     t, commands = run(tp, NEUTRAL, t, 400)   # the puppet goes back
     assert all(guard.clearance(c).min() > 0.0 for c in commands)
     np.testing.assert_allclose(commands[-1], NEUTRAL, atol=1e-9)
-    assert tp.zone_hits['right'] is None
+    assert tp.zones.hits['right'] is None
     assert tp.zones.zone('right') == ''
     assert tp.detail == 'Baxter follows with its right arm'
 
@@ -123,14 +123,14 @@ def sweep_against_the_controller_model(seed, seconds, ratio=None):
         if ms % 100 == 0:   # joint states at the firmware's 10 Hz, heartbeats
             tp.on_joint_states(t, [interface.WORKING] * 7, list(puppet))
             tp.on_heartbeat(t)
-        tp.on_robot(t, True)
+        tp.on_robot(True)
         measured_t, measured, velocities = history[max(0, len(history) - 1 -
                                                        int(rng.integers(0, 21)))]
         tp.on_robot_pose(measured_t, measured, velocities)
         if ms in (500, 520):   # buttons 3 and 2: both Baxter arms follow
-            tp.on_button(t, interface.BUTTON_RIGHT if ms == 500 else interface.BUTTON_LEFT)
+            tp.on_button(interface.BUTTON_RIGHT if ms == 500 else interface.BUTTON_LEFT)
         elif ms in (510, 530):
-            tp.on_button(t, 0)
+            tp.on_button(0)
         for side, command in tp.step(t).commands.items():
             delay = rng.uniform(0.0, arm_reach.COMMAND_DELAY_S)
             in_flight.append((t + delay, side, command))
@@ -173,7 +173,7 @@ def test_an_arm_whose_pose_is_too_old_is_held_still_saying_why():
         t += 0.01
         tp.on_joint_states(t, [interface.WORKING] * 7, REACHING)
         tp.on_heartbeat(t)
-        tp.on_robot(t, True)
+        tp.on_robot(True)
         commands.append(tp.step(t).commands['right'])
     assert all(c == commands[-1] for c in commands[-50:])   # the last proven command, again
     assert tp.detail == zone_holds.POSE_TOO_OLD.link and tp.zones.zone('right') == ''

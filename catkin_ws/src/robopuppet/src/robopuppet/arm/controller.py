@@ -1,5 +1,8 @@
-"""Everything arm_X decides, in one pure object: the node feeds it what its topics bring and
-carries out what it returns (time in s is an argument, no rospy, no messages).
+"""Everything arm_X decides, in one pure object beneath the node: the node's only entry point.
+
+One input method per topic the node subscribes; step() returns typed actions for the node to
+publish (time in s is an argument; no rospy, no messages, not thread-safe: arm_X makes every call
+under its one lock).
 
 It holds the teleop state machine (robopuppet.arm.teleop), Baxter's upkeep (presence, enabling,
 gripper calibration: robopuppet.arm.baxter_upkeep), the operator-robot link (pings, echoes, the
@@ -83,7 +86,7 @@ class ArmController:
 
     # ---- inputs --------------------------------------------------------------------------
 
-    def on_status(self, t, joint, status):
+    def on_status(self, joint, status):
         """Take a joint's encoder status (interface.ENC_STATUS). Any other text keeps the joint
         from counting as Working and is kept cut short (reprlib), as the report and the log
         show it: a 10^5-character garbage status would otherwise go into every teleop_state."""
@@ -141,7 +144,32 @@ class ArmController:
         poses, speeds = arm_poses(names, positions, velocities, self.joint_names)
         self.teleop.on_robot_pose(t - (age_s if age_s > 0.0 else 0.0), poses, speeds)
 
-    def on_stored_settings(self, t, joints):
+    def on_heartbeat(self, t):
+        """Take the puppet's heartbeat."""
+        self.teleop.on_heartbeat(t)
+
+    def on_button(self, button):
+        """Take the puppet's user-button reading (1-4, 0 none); a press acts once."""
+        self.teleop.on_button(button)
+
+    def on_opmode(self, mode):
+        """Take the opmode others set on <ns>/opmode; return '' or a warning to log (see
+        teleop.Teleop.on_opmode)."""
+        return self.teleop.on_opmode(mode)
+
+    def on_end_piece(self, reading):
+        """Take the end-piece button reading (gripper 3: about 1 released, 0 pressed)."""
+        self.teleop.on_end_piece(reading)
+
+    def on_other_puppet(self, t, follow_left, follow_right):
+        """Take which Baxter arms the other puppet drives (its teleop_state)."""
+        self.teleop.on_other_puppet(t, follow_left, follow_right)
+
+    def on_robot_state(self, t, enabled, stopped, error):
+        """Take /robot/state's flags."""
+        self.baxter.on_robot_state(t, enabled, stopped, error)
+
+    def on_stored_settings(self, joints):
         """Take config_X's stored settings, [(joint, {name: value})]; return a line to log, ''
         when none. A change of an angle setting (the first message is none) stops following."""
         try:
@@ -150,10 +178,10 @@ class ArmController:
             return 'stored_settings ignored: %s' % error
         if not changes:
             return ''
-        self.teleop.on_angle_settings(t, describe(changes))
+        self.teleop.on_angle_settings(describe(changes))
         return '%s changed in stored_settings: following stops' % describe(changes)
 
-    def on_echo(self, t, now_s, seq, sent_s, echoed_s):
+    def on_echo(self, now_s, seq, sent_s, echoed_s):
         """Take a link echo that arrived at now_s; return '' or why it was ignored (to log)."""
         return self.link.clock.on_echo(now_s, seq, sent_s, echoed_s)
 
@@ -178,7 +206,7 @@ class ArmController:
         one is due.
         """
         ready = self.baxter.ready(t)
-        self.teleop.on_robot(t, ready)
+        self.teleop.on_robot(ready)
         actions = [Enable()] if self.baxter.enable_due(t) else []
         result = self.teleop.step(t)
         self._command_t = t
@@ -189,11 +217,11 @@ class ArmController:
         report = self._report(t)
         return actions + [report] if report else actions
 
-    def ping(self, t, now_s):
+    def ping(self, now_s):
         """Return (seq, sent_s) of the link ping to send now, or None when none is due."""
         return self.link.clock.ping(now_s)
 
-    def link_report(self, t, now_s):
+    def link_report(self, now_s):
         """Return the link_watch.LinkReport when one is due, else None."""
         return self.link.report(now_s, self.teleop.state != NO_ROBOT)
 
@@ -201,10 +229,10 @@ class ArmController:
         """Take that the step at t was carried out completely."""
         self.last_step_t = t
 
-    def failed(self, t, error):
+    def failed(self, error):
         """Take that a step raised `error`: the controller no longer knows what it commanded,
         a fault at the next step."""
-        self.teleop.on_controller_failed(t, '%s: %s' % (type(error).__name__, error))
+        self.teleop.on_controller_failed('%s: %s' % (type(error).__name__, error))
 
     def stall(self, t):
         """Return why the command loop has failed at t ('' when it has not): no step carried out
@@ -214,7 +242,7 @@ class ArmController:
             return ''
         why = 'no step completed for %.2f s; last error: %s' % (
             stalled_s, self.guard.last_error or 'none')
-        self.teleop.on_controller_failed(t, why)
+        self.teleop.on_controller_failed(why)
         return why
 
     # ---- report --------------------------------------------------------------------------

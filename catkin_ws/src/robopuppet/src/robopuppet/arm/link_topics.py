@@ -16,19 +16,24 @@ def ros_now_s():
 
 
 class LinkTopics:
-    """Ping the operator host, take its echoes and publish the link's state (see ArmNode's ROS
-    API). Every core call goes through the node's call(method, *args), under its lock.
+    """Ping the operator host, take its echoes and publish the link's state; every controller
+    call is made under the node's lock.
+
+    Publishes <ns>/link_ping (robopuppet_msgs/LinkPing, 10 Hz, tcp_nodelay), <ns>/link_state
+    (robopuppet_msgs/LinkState, 5 Hz) and /diagnostics (name 'arm_X: operator-robot link',
+    hardware_id <ns>); subscribes <ns>/link_echo (tcp_nodelay: serial_X answers each ping at
+    once with its own clock).
 
     Args:
         ns: the puppet's namespace, e.g. /puppet/arm_R.
         core: the node's controller.ArmController.
-        call: the node's call(method, *args) -> method(monotonic now, *args) under its lock.
+        lock: the node's lock, held for every call of core.
         guard: the node's robopuppet.periodic.Guard, for the link loop.
         name: the node's name for log lines (arm_X).
     """
 
-    def __init__(self, ns, core, call, guard, name):
-        self._core, self._call, self._name = core, call, name
+    def __init__(self, ns, core, lock, guard, name):
+        self._core, self._lock, self._name = core, lock, name
         self._ping = rospy.Publisher(ns + '/' + ifc.LINK_PING, LinkPing, queue_size=10,
                                      tcp_nodelay=True)
         self._state = rospy.Publisher(ns + '/' + ifc.LINK_STATE, LinkState, queue_size=10)
@@ -36,24 +41,26 @@ class LinkTopics:
         rospy.Subscriber(ns + '/' + ifc.LINK_ECHO, LinkPing, self._on_echo, queue_size=10,
                          tcp_nodelay=True)
         # Twice per ping period: the core paces the pings and the reports.
-        self.loop = Loop(guard, 'link loop', PING_PERIOD_S / 2,
-                         lambda: call(self._tick, ros_now_s()))
+        self.loop = Loop(guard, 'link loop', PING_PERIOD_S / 2, lambda: self._tick(ros_now_s()))
 
     def _on_echo(self, msg):
         arrived_s = ros_now_s()   # before the lock: the wait for it is not the network's
-        why = self._call(self._core.on_echo, arrived_s, msg.seq, msg.sent.to_sec(),
-                         msg.echoed.to_sec())
+        with self._lock:
+            why = self._core.on_echo(arrived_s, msg.seq, msg.sent.to_sec(), msg.echoed.to_sec())
         if why:
             rospy.logwarn_throttle(5, '%s: %s', self._name, why)
 
-    def _tick(self, t, now_s):
-        ping = self._core.ping(t, now_s)
-        if ping:
-            seq, sent_s = ping
-            self._ping.publish(LinkPing(seq=seq, sent=rospy.Time.from_sec(sent_s)))
-        r = self._core.link_report(t, now_s)
-        if r is None:
-            return
+    def _tick(self, now_s):
+        with self._lock:
+            ping = self._core.ping(now_s)
+            if ping:
+                seq, sent_s = ping
+                self._ping.publish(LinkPing(seq=seq, sent=rospy.Time.from_sec(sent_s)))
+            r = self._core.link_report(now_s)
+            if r is not None:
+                self._publish(r, now_s)
+
+    def _publish(self, r, now_s):
         msg = LinkState(rtt=r.rtt_s, clock_offset=r.clock_offset_s, clock_known=r.clock_known,
                         sample_age=r.sample_age_s, max_sample_age=r.max_sample_age_s,
                         loss=r.loss, level=r.level, fault=r.fault, detail=r.detail)

@@ -1,11 +1,9 @@
 """Teleoperation state machine of one puppet arm: pure, time as an argument.
 
-The arm node feeds it puppet data (joint states, heartbeats, buttons, the end-piece reading),
-the opmode others set and Baxter's state, calls step(t) on each puppet sample and at its command
-rate, and carries out what step returns: joint positions for each following Baxter arm and
-actions (opmode, puppet setpoints, grippers). The states are robopuppet_msgs/TeleopState's
-(interface.TELEOP_STATES); README.md, "Operating the puppet", describes them as the operator sees
-them. Button 1 and the puppet's opmode (limp, hold, feel) are robopuppet.arm.opmode's.
+The arm controller feeds it puppet data, the opmode others set and Baxter's state, calls step(t)
+on each puppet sample and at its command rate, and carries out the Step it returns. The states
+are robopuppet_msgs/TeleopState's (transitions; README.md, "Operating the puppet"). Button 1 and
+the puppet's opmode (limp, hold, feel) are robopuppet.arm.opmode's.
 
 Safety: Baxter follows nothing until all seven puppet encoders report Working and every joint
 has sent a valid angle; every command is clamped to Baxter's joint limits and moves at a bounded
@@ -28,7 +26,7 @@ from robopuppet.arm.baxter_watch import BaxterWatch
 from robopuppet.arm.joint_motion import SpeedBudget, clamp, mirror
 from robopuppet.arm.opmode import PuppetOpmode
 from robopuppet.arm.puppet_watch import REFUSED, PuppetWatch
-from robopuppet.arm.transitions import STOP_FOLLOWING, TRANSITIONS
+from robopuppet.arm.transitions import STOP_FOLLOWING, TRANSITIONS, events
 from robopuppet.arm.zone_holds import ZoneHolds
 from robopuppet.interface import (BAXTER_SIDE, BAXTER_SIDES, BUTTON_LEFT, BUTTON_OPMODE,
                                   BUTTON_RIGHT, CALIBRATING, FAULT, FOLLOWING,
@@ -54,21 +52,16 @@ class Teleop:
         puppet_side: 'L' or 'R'; Baxter's arm on this side copies the puppet, the other mirrors.
         limits: {'left': 7 limits, 'right': 7 limits}, each with lower, upper (rad) and
             velocity (rad/s), in puppet joint order (see baxter_description.arm_limits).
-        state_timeout_s: the puppet is silent when no joint states came for this long (the
-            default suits the 2020 firmware's 10 Hz; see robopuppet.arm.timing).
-        heartbeat_timeout_s: ... or no heartbeat for this long (the firmware beats at 1 Hz).
+        state_timeout_s, heartbeat_timeout_s: the puppet is silent after this long without
+            joint states (default: timing.DEFAULT, at 10 Hz) or heartbeats (it beats at 1 Hz).
         approach_speed_rad_s: joint speed while a following arm closes in on the puppet's pose
             (capped per joint by the joint's velocity limit).
         track_tolerance_rad: the approach ends when every joint is this close to the target.
         command_period_s: the nominal time between commands; the speed budget holds this much
             motion, so one command may carry speed x command_period_s at once.
         zone_guards: {side: world.zones.ZoneGuard} of the arms that keep-out zones bind: each
-            command of a following arm is cut so that Baxter's motion from wherever it can be
-            to the command keeps out of every zone, and the speed budget goes on from the cut
-            command (see zone_holds).
-    Joint states that may not be used (too old, of unknown age, out of order) go to on_refused;
-    of unknown age (stale=True), the puppet counts as silent until usable ones come; too old
-    (late=True), they are dropped, and name the silence when no usable ones come.
+            command of a following arm is cut to keep Baxter's motion out of every zone, and
+            the speed budget goes on from the cut command (see zone_holds).
     """
 
     def __init__(self, puppet_side, limits, state_timeout_s=timing.DEFAULT.timeout_s,
@@ -79,7 +72,6 @@ class Teleop:
         self.puppet = PuppetWatch(state_timeout_s, heartbeat_timeout_s)
         self.robot = BaxterWatch(limits)
         self.zones = ZoneHolds(zone_guards, self.robot)
-        self.zone_hits = self.zones.hits   # side -> the zone hit holding the arm back, None
         self.approach_speed_rad_s = approach_speed_rad_s
         self.track_tolerance_rad = track_tolerance_rad
         self.command_period_s = command_period_s
@@ -98,12 +90,6 @@ class Teleop:
         self._last_step_t = None
         self._failure = None       # why the arm controller failed, until the next step
         self._new_meaning = ''     # which angle settings changed, until the next step
-        # Inputs about the puppet's stream and Baxter's pose go to self.puppet and self.robot.
-        self.on_joint_states = self.puppet.on_joint_states
-        self.on_refused = self.puppet.on_refused
-        self.on_heartbeat = self.puppet.on_heartbeat
-        self.heartbeat_age = self.puppet.heartbeat_age
-        self.on_robot_pose = self.robot.on_robot_pose
         self.puppet_mode = PuppetOpmode(self.own_side, self.robot)
 
     @property
@@ -113,18 +99,39 @@ class Teleop:
 
     # ---- inputs --------------------------------------------------------------------------
 
-    def on_button(self, t, button):
+    def on_joint_states(self, t, statuses, angles_rad):
+        """Take 7 encoder statuses and 7 angles rad (PuppetWatch.on_joint_states)."""
+        self.puppet.on_joint_states(t, statuses, angles_rad)
+
+    def on_refused(self, t, why, stale=False, late=False):
+        """Take joint states that may not be used (PuppetWatch.on_refused): stale ones silence
+        the puppet at once, late ones name the silence when no usable ones come."""
+        self.puppet.on_refused(t, why, stale, late)
+
+    def on_heartbeat(self, t):
+        """Take the puppet's heartbeat."""
+        self.puppet.on_heartbeat(t)
+
+    def heartbeat_age(self, t):
+        """Return seconds since the puppet's last heartbeat, or -1.0 before the first."""
+        return self.puppet.heartbeat_age(t)
+
+    def on_robot_pose(self, t, pose, velocities=None):
+        """Take Baxter's arm poses measured at t (BaxterWatch.on_robot_pose)."""
+        self.robot.on_robot_pose(t, pose, velocities)
+
+    def on_button(self, button):
         """Take the puppet's user-button reading (1-4, 0 none); a press acts once."""
         if button != self._button and button != 0:
             self._pressed.append(button)
         self._button = button
 
-    def on_opmode(self, t, mode):
+    def on_opmode(self, mode):
         """Take the opmode others set on <ns>/opmode (limp, hold or feel; a repeat changes
         nothing); return '' or a warning to log when it is no opmode (ignored)."""
         return self.puppet_mode.on_opmode(mode)
 
-    def on_end_piece(self, t, reading):
+    def on_end_piece(self, reading):
         """Take the end-piece button reading (gripper 3: about 1 released, 0 pressed)."""
         if math.isfinite(reading):
             self._grip_reading = reading
@@ -134,17 +141,16 @@ class Teleop:
         for side, claimed in zip(BAXTER_SIDES, (follow_left, follow_right)):
             self._claim_t[side] = t if claimed else None
 
-    def on_robot(self, t, enabled):
+    def on_robot(self, enabled):
         """Take whether Baxter is present and enabled."""
         self._robot_ok = enabled
 
-    def on_angle_settings(self, t, what):
-        """Take that config_X stored a change of what the puppet's angles mean (what: e.g.
-        "joint 0's home_angle"): every following arm stops at the next step (told to stay
-        where Baxter is, as on any stop); only a new press follows again, approaching slowly."""
+    def on_angle_settings(self, what):
+        """Take config_X's change of what the puppet's angles mean (e.g. "joint 0's home_angle"):
+        following stops at the next step, as on any stop; a new press approaches again slowly."""
         self._new_meaning = ', '.join(filter(None, (self._new_meaning, what)))
 
-    def on_controller_failed(self, t, why):
+    def on_controller_failed(self, why):
         """The arm controller itself failed (its command loop stalls or raises): stop following
         as on a silent puppet; following resumes only after a new press."""
         self._failure = why
@@ -168,35 +174,7 @@ class Teleop:
             self.following = {side: False for side in BAXTER_SIDES}
         if new == FAULT:
             self._fault_t, self._fault_why = self._last_step_t, detail
-        self.state = new
-        self.detail = detail
-
-    def _events(self, t):
-        """Yield (event, detail) for what changed since the last step."""
-        silent = self.puppet.silent(t)
-        if self._failure is not None:
-            yield 'controller_failed', 'the arm controller failed (%s); press 2 or 3 to follow ' \
-                'again' % self._failure
-            self._failure = None
-        if not self._robot_ok:
-            yield 'robot_lost', 'Baxter is absent or not enabled'
-        else:
-            yield 'robot_ok', 'Baxter enabled'
-        if silent:
-            yield 'silent', silent
-        elif self.state == FAULT and self.puppet.fresh_since(self._fault_t):
-            yield 'fresh', 'puppet data is back; press 2 or 3 to follow again'
-        if self.state == FAULT and (self.puppet.refusal or (-math.inf,))[0] > self._fault_t:
-            yield 'refused', self.puppet.refusal[1]   # why fresh data is not back
-        if self.puppet.state_t is None and self.puppet.refusal is not None:
-            yield 'uncalibrated', 'no usable puppet joint states yet: %s' % (
-                self.puppet.refusal[1])
-        if self.puppet.state_t is not None and not silent:
-            waiting = self.puppet.not_calibrated()
-            if waiting:
-                yield 'uncalibrated', waiting
-            else:
-                yield 'calibrated', 'all joints Working; press 2 or 3 to follow'
+        self.state, self.detail = new, detail
 
     def _act_on_presses(self, t, actions):
         for button in self._pressed:
@@ -216,8 +194,7 @@ class Teleop:
             self.detail = 'the other puppet drives Baxter\'s %s arm already' % side
             return
         elif side in self.robot.pose:
-            self.following[side] = True
-            self.tracking[side] = False
+            self.following[side], self.tracking[side] = True, False
             self._motion[side] = SpeedBudget(clamp(self.robot.pose[side], self.limits[side]),
                                              self.command_period_s, t)
         self._after_follow_change('')
@@ -297,7 +274,9 @@ class Teleop:
         """Advance to time t (s) and return the Step to carry out now."""
         self._last_step_t = t
         was_following = dict(self.following)
-        for event, detail in self._events(t):
+        failure, self._failure = self._failure, None
+        for event, detail in events(t, self.state, self._fault_t, self._robot_ok, self.puppet,
+                                    failure):
             self._fire(event, detail)
         actions = []
         self._drop_contested_arms(t)

@@ -18,7 +18,7 @@ ZONE_COLOUR = (0.9, 0.1, 0.1)   # a zone without a colour of its own
 ZONE_ALPHA = 0.3                # translucent: what is inside stays visible
 NAME_COLOUR = (1.0, 1.0, 1.0, 0.9)
 NAMESPACE, NAME_NAMESPACE = 'keep-out zones', 'keep-out zone names'
-HELD_NAMESPACE = 'keep-out zones holding Baxter'
+HELD_NAMESPACE = 'keep-out zones holding Baxter'   # and the node's name: one per controller
 HELD_COLOUR = (1.0, 0.45, 0.0, 0.85)      # strong orange over the red: the zone holding an arm
 HELD_TEXT_COLOUR = (1.0, 0.6, 0.1, 1.0)
 HELD_GROW_M = 0.005                       # drawn just outside the zone's own marker
@@ -36,7 +36,8 @@ def controllers_zones_files():
     """Return {puppet side: zone file} that the arm controllers arm_L and arm_R were given, as
     the parameter server holds it ('' for none); a side whose parameter is not set is left out.
     """
-    names = {side: '/arm_%s/%s' % (side, ZONES_PARAM) for side in interface.PUPPET_SIDES}
+    names = {side: interface.node_param('arm', side, ZONES_PARAM)
+             for side in interface.PUPPET_SIDES}
     return {side: str(rospy.get_param(name)) for side, name in names.items()
             if rospy.has_param(name)}
 
@@ -51,8 +52,8 @@ def load_guards(*paths):
     file named, or only '': no guards).
 
     Raises:
-        ValueError (world.zones.ZoneFileError, arm_capsules.CapsuleError): a bad zone file or
-            robot description, named in the message; arm_X does not start without its zones.
+        ValueError (world.zones.ZoneFileError, arm_capsules.CapsuleError, DescriptionError): a bad
+            zone file or robot description, named; arm_X does not start without its zones.
     """
     paths = [path for path in paths if path]
     if not paths:
@@ -60,9 +61,7 @@ def load_guards(*paths):
     found = []
     for path in paths:
         found += [zone for zone in zones.load_zones(path) if zone not in found]
-    urdf = bd.urdf_path(rospkg.RosPack().get_path('robopuppet'))
-    with open(urdf) as stream:
-        text = stream.read()
+    text = bd.read_urdf(bd.urdf_path(rospkg.RosPack().get_path('robopuppet')))
     description = bd.Description(text)
     return ({side: zones.ZoneGuard(arm_capsules.ArmCapsules(description, text, side), found)
              for side in interface.BAXTER_SIDES}, found)
@@ -73,26 +72,34 @@ def _held_text(zone, sides):
                                                    's' if len(sides) > 1 else '')
 
 
-def zone_markers(found, stamp, holding=None):
+def zone_markers(found, stamp):
     """Return the MarkerArray of zones: a DELETEALL (zones of an earlier file go), then each
-    zone translucent red in Baxter's base frame and its name above it; a zone in `holding`
-    ({zone name: [Baxter sides it holds back]}) is drawn over in HELD_COLOUR, with a line above
-    its name saying which arm it holds."""
-    holding = holding or {}
+    zone translucent red in Baxter's base frame and its name above it."""
     markers = [Marker(ns=NAMESPACE, action=Marker.DELETEALL)]
     for index, shape in enumerate(found):
-        top = shape_markers.top_z(shape) + TEXT_HEIGHT_M
         markers += [shape_markers.shape_marker(shape, NAMESPACE, index,
                                                (shape.colour or ZONE_COLOUR) + (ZONE_ALPHA,)),
                     shape_markers.text_marker(NAME_NAMESPACE, index, shape.name,
-                                              (shape.xyz[0], shape.xyz[1], top), NAME_COLOUR)]
-        if shape.name in holding:
-            markers += [
-                shape_markers.shape_marker(shape, HELD_NAMESPACE, index, HELD_COLOUR, HELD_GROW_M),
-                shape_markers.text_marker(HELD_NAMESPACE, len(found) + index,
-                                          _held_text(shape.name, holding[shape.name]),
-                                          (shape.xyz[0], shape.xyz[1], top + 1.6 * TEXT_HEIGHT_M),
-                                          HELD_TEXT_COLOUR)]
+                                              shape_markers.label_xyz(shape), NAME_COLOUR)]
+    return shape_markers.marker_array(markers, stamp)
+
+
+def held_markers(found, stamp, holding, name):
+    """Return all of controller `name`'s highlights: each zone in `holding` ({zone name: [Baxter
+    sides]}) drawn over in HELD_COLOUR, a line above saying which arm it holds; the others'
+    deleted. Its own namespace and no DELETEALL: the other controller's highlights stay."""
+    ns, markers = '%s (%s)' % (HELD_NAMESPACE, name), []
+    for index, shape in enumerate(found):
+        text_id = len(found) + index
+        if shape.name not in holding:
+            markers += [Marker(ns=ns, id=index, action=Marker.DELETE),
+                        Marker(ns=ns, id=text_id, action=Marker.DELETE)]
+            continue
+        x, y, z = shape_markers.label_xyz(shape)
+        markers += [
+            shape_markers.shape_marker(shape, ns, index, HELD_COLOUR, HELD_GROW_M),
+            shape_markers.text_marker(ns, text_id, _held_text(shape.name, holding[shape.name]),
+                                      (x, y, z + 1.6 * TEXT_HEIGHT_M), HELD_TEXT_COLOUR)]
     return shape_markers.marker_array(markers, stamp)
 
 
@@ -106,8 +113,8 @@ def holding_zones(zone_left, zone_right):
 
 
 class ZoneView:
-    """Republish the zone markers when the zones holding Baxter's arms change, at most every
-    MIN_REPUBLISH_S (a later report publishes a change held back); never raises: a failed
+    """Republish this controller's highlights when the zones holding Baxter's arms change, at most
+    every MIN_REPUBLISH_S (a later report publishes a change held back); never raises: a failed
     publish is logged, and the commands go on."""
 
     def __init__(self, publisher, found, name):
@@ -121,15 +128,19 @@ class ZoneView:
             if not self._found or holding == self._shown or \
                     now_s - self._shown_s < MIN_REPUBLISH_S:
                 return
-            self._publisher.publish(zone_markers(self._found, rospy.Time.now(), holding))
+            self._publisher.publish(held_markers(self._found, rospy.Time.now(), holding,
+                                                 self._name))
             self._shown, self._shown_s = holding, now_s
         except Exception as error:  # markers are for the eye; commands must not notice
             rospy.logerr_throttle(10, '%s: zone markers not published: %s', self._name, error)
 
 
 def publish_zones(found, name):
-    """Publish the zones, latched, on interface.ZONE_MARKERS; return the ZoneView that
-    republishes them as zones hold arms back (name: the node's, for its log lines)."""
-    publisher = rospy.Publisher(interface.ZONE_MARKERS, MarkerArray, queue_size=1, latch=True)
-    publisher.publish(zone_markers(found, rospy.Time.now()))
-    return ZoneView(publisher, found, name)
+    """Publish the zones, latched, on interface.ZONE_MARKERS, and no highlight on
+    interface.ZONE_HOLD_MARKERS; return the ZoneView that highlights the zones holding arms back
+    (name: the node's, for its namespace and log lines)."""
+    zones_pub = rospy.Publisher(interface.ZONE_MARKERS, MarkerArray, queue_size=1, latch=True)
+    zones_pub.publish(zone_markers(found, rospy.Time.now()))
+    held_pub = rospy.Publisher(interface.ZONE_HOLD_MARKERS, MarkerArray, queue_size=1, latch=True)
+    held_pub.publish(held_markers(found, rospy.Time.now(), {}, name))
+    return ZoneView(held_pub, found, name)

@@ -9,6 +9,7 @@ Not thread-safe: the node calls it under one lock.
 """
 import collections
 
+from robopuppet import interface
 from robopuppet.baxter_description import BASE_FRAME
 from robopuppet.baxter_sim import baxter_io as bio
 from robopuppet.baxter_sim.baxter_ik import ArmIK
@@ -27,56 +28,6 @@ ESTOP_BUTTON_UNPRESSED, ESTOP_SOURCE_NONE, ESTOP_SOURCE_USER = 0, 0, 1
 STATE_EVERY_N_CYCLES = 5        # /robot/state at rate_hz / 5 (and on every change)
 WARN_INTERVAL_S = 2.0           # a refusal is logged at most this often per topic and reason
 
-# Rethink's names beyond interface.py's, and the stand-in's own input for a user's hand.
-DIGITAL_IO_COMMAND = '/robot/digital_io/command'
-HEAD_PAN_COMMAND = '/robot/head/command_head_pan'
-HEAD_NOD_COMMAND = '/robot/head/command_head_nod'
-HEAD_STATE = '/robot/head/head_state'
-SIM_DIGITAL_INPUT = '/baxter_sim/digital_input'   # press a cuff or button (DigitalOutputCommand)
-# The subscriptions beyond the arms', grippers' and enable state's, as data for the node:
-# (topic, message type, BaxterApi method, the message fields passed to it in order).
-IO_SUBSCRIPTIONS = (
-    (DIGITAL_IO_COMMAND, 'baxter_core_msgs/DigitalOutputCommand', 'digital_output',
-     ('name', 'value')),
-    (SIM_DIGITAL_INPUT, 'baxter_core_msgs/DigitalOutputCommand', 'digital_input',
-     ('name', 'value')),
-    (HEAD_PAN_COMMAND, 'baxter_core_msgs/HeadPanCommand', 'head_pan',
-     ('target', 'speed_ratio', 'enable_pan_request')),
-    (HEAD_NOD_COMMAND, 'std_msgs/Bool', 'head_nod', ('data',)),
-)
-
-
-def digital_io_state_topic(name):
-    """Return the state topic of a digital IO component."""
-    return '/robot/digital_io/%s/state' % name
-
-
-def navigator_state_topic(location):
-    """Return the state topic of a navigator ('left', 'right', 'torso_left', 'torso_right')."""
-    return '/robot/navigators/%s_navigator/state' % location
-
-
-def analog_io_state_topic(name):
-    """Return the state topic of an analog IO component."""
-    return '/robot/analog_io/%s/state' % name
-
-
-def ik_service(side):
-    """Return the name of a side's IK service (baxter_core_msgs/SolvePositionIK)."""
-    return '/ExternalTools/%s/PositionKinematicsNode/IKService' % side
-
-
-def io_publications():
-    """Return [(topic, message type)] of every IO and head state, published every cycle."""
-    return ([(digital_io_state_topic(n), 'baxter_core_msgs/DigitalIOState')
-             for n in bio.DIGITAL_INPUTS + bio.DIGITAL_OUTPUTS]
-            + [(navigator_state_topic(n), 'baxter_core_msgs/NavigatorState')
-               for n in bio.NAVIGATORS]
-            + [(analog_io_state_topic(n), 'baxter_core_msgs/AnalogIOState')
-               for n in bio.ANALOG_INPUTS]
-            + [(HEAD_STATE, 'baxter_core_msgs/HeadState')])
-
-
 Reply = collections.namedtuple('Reply', 'warning change')
 Reply.__doc__ = """What a command leads to: `warning` a refusal line to log (None: taken, or
 refused too recently to log again); `change` an enable-state change to log, after which
@@ -85,8 +36,8 @@ Cycle = collections.namedtuple('Cycle', 'joints poses grippers state_due io')
 Cycle.__doc__ = """One publishing cycle: `joints` (names, positions rad or m, velocities rad/s or
 m/s, efforts), `poses` {side: ((x, y, z) m, (qx, qy, qz, qw)) of the gripper in base},
 `grippers` {side: EndEffectorState fields but the timestamp}, `state_due` (publish /robot/state
-too), `io` {topic: fields} of every io_publications() topic (AnalogIOState's timestamp is
-the node's)."""
+too), `io` {topic: fields} of every baxter_topics.io_publications() topic (AnalogIOState's
+timestamp is the node's)."""
 
 
 def bool_param(name, value):
@@ -264,10 +215,12 @@ class BaxterApi:
 
     def _io_states(self):
         io = self.model.io
-        states = {digital_io_state_topic(n): f for n, f in io.digital_states().items()}
-        states.update((navigator_state_topic(n), f) for n, f in io.navigator_states().items())
-        states.update((analog_io_state_topic(n), f) for n, f in bio.analog_states().items())
-        states[HEAD_STATE] = self.model.head.state()
+        states = {interface.digital_io_state_topic(n): f for n, f in io.digital_states().items()}
+        states.update((interface.navigator_state_topic(n), f)
+                      for n, f in io.navigator_states().items())
+        states.update((interface.analog_io_state_topic(n), f)
+                      for n, f in bio.analog_states().items())
+        states[interface.HEAD_STATE] = self.model.head.state()
         return states
 
 

@@ -19,6 +19,7 @@ import numpy as np
 
 from robopuppet import baxter_description as bd
 from robopuppet.interface import BAXTER_SIDES
+from robopuppet.world import obstacles as obstacle_files
 from robopuppet.world.arm_capsules import ArmCapsules
 from robopuppet.world.zones import ZoneGuard
 
@@ -79,3 +80,22 @@ def arm_contacts(description, urdf_text, obstacles):
         contacts[side] = ArmContact(ArmCapsules(description, urdf_text, side), obstacles,
                                     efforts)
     return contacts
+
+
+def obstacle_contacts(value, package_dir, description, urdf_text):
+    """Return (arm_contacts of an ~obstacles_file's shapes, a log line naming them).
+
+    Args:
+        value: the parameter (None: the package's default file when it exists; '': none).
+        package_dir: the robopuppet package's directory.
+
+    Raises:
+        ValueError: the file cannot be used (also ObstacleFileError and CapsuleError).
+    """
+    if value is not None and not isinstance(value, str):
+        raise ValueError('~obstacles_file must be a file path, got %r' % (value,))
+    path = obstacle_files.chosen_path(value, package_dir)
+    shapes = obstacle_files.load_obstacles(path) if path else []
+    return arm_contacts(description, urdf_text, shapes), (
+        'obstacles from %s: %s' % (path, ', '.join(s.name for s in shapes)) if shapes
+        else 'no obstacles')

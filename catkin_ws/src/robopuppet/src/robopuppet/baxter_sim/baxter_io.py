@@ -16,10 +16,21 @@ NAVIGATOR_BUTTONS = ('ok', 'back', 'show')
 NAVIGATOR_LIGHTS = ('inner', 'outer')     # NavigatorState.lights order, as the SDK reads them
 # The cuff's squeeze sensor and its two buttons (upper: 'dash', lower: 'circle'), the shoulder's.
 CUFF_INPUTS = ('lower_cuff', 'upper_button', 'lower_button', 'shoulder_button')
+
+
+def button_name(location, button):
+    """Return the digital input name of a navigator's button ('left_button_ok')."""
+    return '%s_button_%s' % (location, button)
+
+
+def light_name(location, light):
+    """Return the digital output name of a navigator's light ('left_inner_light')."""
+    return '%s_%s_light' % (location, light)
+
+
 DIGITAL_INPUTS = tuple(['%s_%s' % (side, name) for side in BAXTER_SIDES for name in CUFF_INPUTS]
-                       + ['%s_button_%s' % (nav, b) for nav in NAVIGATORS
-                          for b in NAVIGATOR_BUTTONS])
-DIGITAL_OUTPUTS = tuple('%s_%s_light' % (nav, light) for nav in NAVIGATORS
+                       + [button_name(nav, b) for nav in NAVIGATORS for b in NAVIGATOR_BUTTONS])
+DIGITAL_OUTPUTS = tuple(light_name(nav, light) for nav in NAVIGATORS
                         for light in NAVIGATOR_LIGHTS)
 ANALOG_INPUTS = tuple('%s_hand_range' % side for side in BAXTER_SIDES)
 # The hand's IR range sensor with nothing in reach (the stand-in sees no objects).
@@ -52,9 +63,7 @@ class DigitalIO:
         Raises:
             CommandError: an unknown component, an input, or a value that is not a bool.
         """
-        self._check(name, DIGITAL_OUTPUTS, 'an input: it is pressed, not commanded',
-                    'input only')
-        self.states[name] = _bool(value, 'digital output %s' % name)
+        self._set(name, value, 'output', 'an input: it is pressed, not commanded', 'input only')
 
     def press(self, name, value):
         """Press (True) or release (False) an input: a cuff squeeze or a button.
@@ -62,16 +71,17 @@ class DigitalIO:
         Raises:
             CommandError: an unknown component, an output, or a value that is not a bool.
         """
-        self._check(name, DIGITAL_INPUTS, 'an output: switch it on /robot/digital_io/command',
-                    'not an input')
-        self.states[name] = _bool(value, 'digital input %s' % name)
+        self._set(name, value, 'input', 'an output: switch it on /robot/digital_io/command',
+                  'not an input')
 
-    def _check(self, name, allowed, other, reason):
-        if name in allowed:
-            return
-        if name in self.states:
-            raise CommandError('digital io %s is %s' % (name, other), reason)
-        raise CommandError('no digital io component %s' % brief(name), 'unknown component')
+    def _set(self, name, value, kind, other, reason):
+        """Set a component of `kind` ('input' or 'output'); refuse one of the other kind with
+        'is <other>' and `reason`."""
+        if name not in (DIGITAL_INPUTS if kind == 'input' else DIGITAL_OUTPUTS):
+            if name in self.states:
+                raise CommandError('digital io %s is %s' % (name, other), reason)
+            raise CommandError('no digital io component %s' % brief(name), 'unknown component')
+        self.states[name] = _bool(value, 'digital %s %s' % (kind, name))
 
     def digital_states(self):
         """Return {component name: DigitalIOState fields}."""
@@ -82,10 +92,9 @@ class DigitalIO:
     def navigator_states(self):
         """Return {navigator location: NavigatorState fields} (wheel 0..255)."""
         return {nav: dict(names=list(NAVIGATOR_BUTTONS),
-                          buttons=[self.states['%s_button_%s' % (nav, b)]
-                                   for b in NAVIGATOR_BUTTONS],
+                          buttons=[self.states[button_name(nav, b)] for b in NAVIGATOR_BUTTONS],
                           wheel=self.wheels[nav],
-                          lights=[self.states['%s_%s_light' % (nav, light)]
+                          lights=[self.states[light_name(nav, light)]
                                   for light in NAVIGATOR_LIGHTS])
                 for nav in NAVIGATORS}
 

@@ -3,7 +3,8 @@
 Pure: every method that changes with time takes `now_s` (seconds, any monotonic origin); nothing
 here reads a clock or imports rospy. Joint names and limits come from baxter_description; the
 gripper is robopuppet.baxter_sim.baxter_gripper, the refusals robopuppet.baxter_sim.baxter_refusals,
-the contact with obstacles robopuppet.baxter_sim.baxter_contact.
+the JointCommand's modes and checks baxter_joint_command, the contact with obstacles
+robopuppet.baxter_sim.baxter_contact.
 
 Position control, the model of Baxter's joint position controller that arm_X's keep-out zones
 rely on (docs/baxter_sim.md, "How the arms move"): in modes 1 and 4 each joint moves on its own,
@@ -18,14 +19,11 @@ import math
 from robopuppet import baxter_description as bd
 from robopuppet.baxter_sim.baxter_gripper import GRIPPER_OPEN, Gripper, approach
 from robopuppet.baxter_sim.baxter_io import DigitalIO, Head
+from robopuppet.baxter_sim.baxter_joint_command import (POSITION_MODE, TORQUE_MODE, VELOCITY_MODE,
+                                                        command_targets)
 from robopuppet.baxter_sim.baxter_refusals import CommandError, NotEnabledError, brief, finite
 from robopuppet.interface import BAXTER_SIDES
 
-POSITION_MODE = 1       # baxter_core_msgs/JointCommand.POSITION_MODE: smoothed, speed-ratio scaled
-VELOCITY_MODE = 2       # JointCommand.VELOCITY_MODE: rad/s, integrated within the limits
-TORQUE_MODE = 3         # JointCommand.TORQUE_MODE: N m on top of gravity compensation
-RAW_POSITION_MODE = 4   # baxter_core_msgs/JointCommand.RAW_POSITION_MODE: at the velocity limit
-MODES = (POSITION_MODE, VELOCITY_MODE, TORQUE_MODE, RAW_POSITION_MODE)
 DEFAULT_SPEED_RATIO = 0.3
 DEFAULT_COMMAND_TIMEOUT_S = 0.2
 # Mode 1 approaches its target as a first-order lag with this time constant (capped in speed).
@@ -65,49 +63,18 @@ class Arm:
         self.efforts = dict(self.torques)
 
     def command(self, mode, names, values, now_s):
-        """Take new targets; names may be any subset of this arm's joints, in any order.
+        """Take new targets (baxter_joint_command.command_targets checks and clamps them).
 
-        Position targets outside a joint's limits are clamped to the limit, velocities (mode 2)
-        to the velocity limit, torques (mode 3) to the effort limit; in modes 2 and 3 joints not
-        named get 0 (hold). A torque drives a gravity-compensated, damped joint: it moves at
-        torque / effort limit x velocity limit (the effort limit reaches the velocity limit).
-        A command that is refused
-        changes nothing: it neither restarts the command timeout nor switches the mode. So an
-        empty command (no names), which a real Baxter ignores, does not keep the arm moving.
+        In modes 2 and 3 joints not named get 0 (hold). A torque drives a gravity-compensated,
+        damped joint: it moves at torque / effort limit x velocity limit (the effort limit
+        reaches the velocity limit). A refused command changes nothing: it neither restarts the
+        command timeout nor switches the mode. So an empty command (no names), which a real
+        Baxter ignores, does not keep the arm moving.
 
         Raises:
-            CommandError: unknown mode, length mismatch, no joints, more
-                joints than the arm has, an unknown (or the other arm's) or repeated joint name,
-                or a non-finite value.
+            CommandError: the command is malformed (see command_targets).
         """
-        if mode not in MODES:
-            raise CommandError('%s arm: joint command mode %s is not a Baxter mode (1 position, '
-                               '2 velocity, 3 torque, 4 raw position)' % (self.side, brief(mode)),
-                               'unknown mode')
-        if len(names) != len(values):
-            raise CommandError('%s arm: joint command has %d names but %d values'
-                               % (self.side, len(names), len(values)), 'length mismatch')
-        if not names:
-            raise CommandError('%s arm: empty joint command ignored (no joints): it does not '
-                               'restart the command timeout' % self.side, 'empty')
-        if len(names) > len(self.limits):
-            raise CommandError('%s arm: joint command names %d joints, the arm has %d'
-                               % (self.side, len(names), len(self.limits)), 'too many joints')
-        unknown = [n for n in names if n not in self.limits]
-        if unknown:
-            raise CommandError('%s arm: joint command names unknown to this arm: %s'
-                               % (self.side, brief(unknown)), 'unknown joint')
-        if len(set(names)) != len(names):
-            raise CommandError('%s arm: joint command names a joint twice: %s'
-                               % (self.side, brief(list(names))), 'repeated joint')
-        targets = {}
-        for name, value in zip(names, values):
-            limit = self.limits[name]
-            value = finite(value, '%s arm: joint command for %s' % (self.side, name),
-                           'non-finite value')
-            bound = {VELOCITY_MODE: limit.velocity, TORQUE_MODE: self.max_effort[name]}.get(mode)
-            low, high = (limit.lower, limit.upper) if bound is None else (-bound, bound)
-            targets[name] = min(high, max(low, value))
+        targets = command_targets(self.side, mode, names, values, self.limits, self.max_effort)
         self.step(now_s)  # the arm moved toward the old targets until the command arrived
         self.rates = dict.fromkeys(self.rates, 0.0)
         self.torques = dict.fromkeys(self.torques, 0.0)

@@ -11,8 +11,8 @@ then apply_changes (one all-or-none set_arm_config request for every joint: conf
 all of them with one file replace, or none), and undo with the old values the same way.
 DirectionCheck then asks for each joint to be moved in Baxter's positive direction.
 
-While a pose is awaited, the wizard and the command publish it on TARGET_TOPIC (target_state)
-for the calibration target ghost in RViz (ghost/, docs/ghost.md).
+While a pose is awaited, the wizard and the command publish it on interface.CALIBRATION_TARGET
+(target_state) for the calibration target ghost in RViz (ghost/, docs/ghost.md).
 """
 import collections
 import math
@@ -36,7 +36,6 @@ POSES = (
 
 # Relative to interface.puppet_ns(side): sensor_msgs/JointState, the pose awaited as Baxter's
 # joint names and angles (rad) of the arm on the puppet's side; nothing while none is awaited.
-TARGET_TOPIC = 'calibration_target'
 TARGET_RATE_HZ = 10.0  # the target ghost drops a target not repeated within 0.5 s
 
 Change = collections.namedtuple('Change', 'joint old new fit')
@@ -85,8 +84,8 @@ def joints_to_turn(readings):
 
 
 def target_state(side, pose):
-    """Return (names, positions) of TARGET_TOPIC for a Pose on puppet side: Baxter's joint
-    names of the arm that copies that puppet arm, and the pose's angles (rad)."""
+    """Return (names, positions) of interface.CALIBRATION_TARGET for a Pose on puppet side:
+    Baxter's joint names of the arm that copies that puppet arm, and the pose's angles (rad)."""
     return (baxter_description.arm_joint_names(interface.BAXTER_SIDE[interface.check_side(side)]),
             list(pose.angles_rad))
 

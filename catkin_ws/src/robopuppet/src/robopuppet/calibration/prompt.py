@@ -27,11 +27,7 @@ def ask(prompt, stdin=None, stdout=None):
     stdin, stdout = stdin or sys.stdin, stdout or sys.stdout
     stdout.write(prompt)
     stdout.flush()
-    line = stdin.readline()
-    if not line:
-        stdout.write('\n')
-        return 'q'
-    return line.strip().lower()
+    return _answer(stdin, stdout)
 
 
 def ask_live(prompt, live, stdin=None, stdout=None):
@@ -46,6 +42,11 @@ def ask_live(prompt, live, stdin=None, stdout=None):
         # Up one line, redraw it, back down to the end of the prompt; what is typed stays.
         stdout.write('\x1b7\x1b[1A\r%s\x1b[K\x1b8' % live())
         stdout.flush()
+    return _answer(stdin, stdout)
+
+
+def _answer(stdin, stdout):
+    """Read the typed line: stripped, lower case; 'q' (after a newline) at the end of input."""
     line = stdin.readline()
     if not line:
         stdout.write('\n')

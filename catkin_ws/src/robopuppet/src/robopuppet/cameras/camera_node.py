@@ -3,12 +3,12 @@ import threading
 import time
 
 import rospy
-from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
-from sensor_msgs.msg import CameraInfo, CompressedImage
+from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 
-from robopuppet import interface
 from robopuppet.cameras import jpeg, node_loops, webcam
+from robopuppet.cameras.camera_topics import CameraTopics
 from robopuppet.cameras.capture import Capture
+from robopuppet.cameras.frame_rates import FrameRates
 
 DIAG_CAMERA = 'camera'  # the status name: '<node>: camera <name>'
 
@@ -34,19 +34,13 @@ class CameraNode:
     def __init__(self, settings):
         self.settings = s = settings
         self._name = rospy.get_name()
-        self._image_pub = rospy.Publisher(interface.camera_topic(s.name, 'image/compressed'),
-                                          CompressedImage, queue_size=2)
-        self._info_pub = rospy.Publisher(interface.camera_topic(s.name, 'camera_info'),
-                                         CameraInfo, queue_size=2)
-        self._diag_pub = rospy.Publisher(interface.DIAGNOSTICS, DiagnosticArray, queue_size=10)
         model = webcam.camera_model(s.width, s.height, s.hfov_deg)
-        self._info = CameraInfo(width=s.width, height=s.height, distortion_model='plumb_bob',
-                                D=model.D, K=model.K, R=model.R, P=model.P)
-        self._info.header.frame_id = s.frame_id
+        self._topics = CameraTopics(s.name, dict(model._asdict(), distortion_model='plumb_bob'),
+                                    queue_size=2)
         self._retry = webcam.Retry(first_s=0.5, max_s=2.0)  # a replugged webcam: back in 2 s
-        self._lock = threading.Lock()  # the counters below, read by the diagnostics loop
-        self._capture, self._streaming = None, False
-        self._published, self._jpeg_bytes, self._last_count = 0, 0, (time.monotonic(), 0)
+        self._lock = threading.Lock()  # _retry and _jpeg_bytes, read by the diagnostics loop
+        self._capture, self._streaming, self._jpeg_bytes = None, False, 0
+        self._rates = FrameRates(['published'], time.monotonic())
 
     def run(self):
         """Capture and publish until shutdown."""
@@ -70,13 +64,9 @@ class CameraNode:
             return
         s = self.settings
         data = jpeg.encode(jpeg.fit(frame, s.width, s.height), s.quality)
-        msg = CompressedImage(format=jpeg.JPEG_FORMAT, data=data)
-        msg.header.stamp, msg.header.frame_id = stamp, s.frame_id
-        self._info.header.stamp = stamp
-        self._image_pub.publish(msg)
-        self._info_pub.publish(self._info)
+        self._topics.publish(stamp, s.frame_id, packed=data)
+        self._rates.add('published')
         with self._lock:
-            self._published += 1
             self._jpeg_bytes = len(data)
         if not self._streaming:
             self._first_frame()
@@ -119,12 +109,11 @@ class CameraNode:
             rospy.logerr('%s: camera %s: %s', self._name, self.settings.name, line)
 
     def _diagnose(self):
-        now_s = time.monotonic()
+        counts, per_s = self._rates.read(time.monotonic())
+        published, rate_hz = counts['published'], per_s['published']
         with self._lock:
-            published, size, reason = self._published, self._jpeg_bytes, self._retry.reason
+            size, reason = self._jpeg_bytes, self._retry.reason
             failures, delay_s = self._retry.failures, self._retry.delay_s
-        (then_s, then_count), self._last_count = self._last_count, (now_s, published)
-        rate_hz = (published - then_count) / max(now_s - then_s, 1e-3)
         s = self.settings
         if reason:
             level, message = DiagnosticStatus.ERROR, 'no images: %s; retrying in %.1f s' % (
@@ -137,11 +126,9 @@ class CameraNode:
         values = [('device', webcam.describe(s.device)), ('frames published', str(published)),
                   ('rate_hz', '%.1f' % rate_hz), ('jpeg_bytes', str(size)),
                   ('failed attempts', str(failures))]
-        array = DiagnosticArray(status=[DiagnosticStatus(
+        return DiagnosticStatus(
             level=level, name='%s: %s %s' % (self._name, DIAG_CAMERA, s.name), message=message,
-            hardware_id=str(s.device), values=[KeyValue(k, v) for k, v in values])])
-        array.header.stamp = rospy.Time.now()
-        self._diag_pub.publish(array)
+            hardware_id=str(s.device), values=[KeyValue(k, v) for k, v in values])
 
 
 def main():

@@ -2,7 +2,9 @@
 its rate and its /diagnostics at 1 Hz, both through one Guard (periodic), so that a failed frame
 or report is logged and the next one comes as usual."""
 import rospy
+from diagnostic_msgs.msg import DiagnosticArray
 
+from robopuppet import interface
 from robopuppet.periodic import Guard, Loop
 
 DIAGNOSTICS_PERIOD_S = 1.0
@@ -10,7 +12,8 @@ STOP_TIMEOUT_S = 2.0  # per loop, at shutdown
 
 
 def spin(what, rate_hz, tick, diagnose, release=None):
-    """Call tick() at rate_hz and diagnose() every DIAGNOSTICS_PERIOD_S until shutdown.
+    """Call tick() at rate_hz and publish diagnose()'s DiagnosticStatus on /diagnostics every
+    DIAGNOSTICS_PERIOD_S until shutdown.
 
     At shutdown both loops stop (each waited for up to STOP_TIMEOUT_S), then release() (if
     given) frees what the frames came from.
@@ -18,9 +21,15 @@ def spin(what, rate_hz, tick, diagnose, release=None):
     Args:
         what: the frame loop's name, for log lines and its thread.
     """
+    diagnostics = rospy.Publisher(interface.DIAGNOSTICS, DiagnosticArray, queue_size=10)
+
+    def report():
+        array = DiagnosticArray(status=[diagnose()])
+        array.header.stamp = rospy.Time.now()
+        diagnostics.publish(array)
     guard = Guard(rospy.get_name(), rospy.logerr)
     loops = [Loop(guard, what, 1.0 / rate_hz, tick),
-             Loop(guard, 'camera diagnostics', DIAGNOSTICS_PERIOD_S, diagnose)]
+             Loop(guard, 'camera diagnostics', DIAGNOSTICS_PERIOD_S, report)]
 
     def stop():
         for loop in loops:

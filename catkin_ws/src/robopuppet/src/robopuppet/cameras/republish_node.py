@@ -31,11 +31,11 @@ class Republisher:
         self._pubs, self._subs = {}, []
         for camera in cameras:
             self._pubs[camera] = rospy.Publisher(
-                interface.camera_topic(camera, 'image/compressed'), CompressedImage,
+                interface.camera_topic(camera, interface.CAMERA_COMPRESSED), CompressedImage,
                 queue_size=2)
             self._subs.append(rospy.Subscriber(
-                interface.camera_topic(camera, 'image'), Image, self._on_image, camera,
-                queue_size=1, buff_size=2 ** 24))
+                interface.camera_topic(camera, interface.CAMERA_IMAGE), Image, self._on_image,
+                camera, queue_size=1, buff_size=2 ** 24))
 
     def _on_image(self, msg, camera):
         pub = self._pubs[camera]
@@ -46,7 +46,7 @@ class Republisher:
             data = jpeg.encode(image, self.quality)
         except jpeg.JpegError as error:
             rospy.logwarn_throttle(10.0, '%s: %s dropped: %s', rospy.get_name(),
-                                   interface.camera_topic(camera, 'image'), error)
+                                   interface.camera_topic(camera, interface.CAMERA_IMAGE), error)
             return
         pub.publish(CompressedImage(header=msg.header, format=jpeg.JPEG_FORMAT, data=data))
 
@@ -65,5 +65,5 @@ def main():
         raise SystemExit(1)
     Republisher(cameras, quality)
     rospy.loginfo('%s: JPEG at quality %d of %s', rospy.get_name(), quality,
-                  ', '.join(interface.camera_topic(c, 'image') for c in cameras))
+                  ', '.join(interface.camera_topic(c, interface.CAMERA_IMAGE) for c in cameras))
     rospy.spin()

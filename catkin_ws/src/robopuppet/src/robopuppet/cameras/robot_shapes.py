@@ -2,81 +2,27 @@
 
 The shapes are the URDF's own <visual> boxes, cylinders and spheres (the ones RViz shows), one
 merged mesh per link in the link's frame; poses come from baxter_description's forward
-kinematics, so the cameras, RViz and the stand-in agree on where every link is. Pure: XML and
-numpy, no ROS.
+kinematics, so the cameras, RViz and the stand-in agree on where every link is. Pure: numpy, no
+ROS.
 """
-import xml.etree.ElementTree as ET
-
 import numpy as np
 
 from robopuppet import baxter_description as bd
-from robopuppet.cameras import meshes
+from robopuppet.cameras import meshes, scene
+from robopuppet.world import shapes
 
 DEFAULT_COLOUR = (0.6, 0.6, 0.6)  # a visual without a material colour
 
 
-class ShapeError(ValueError):
-    """A visual of the robot description cannot be drawn."""
-
-
-def _colour(visual, named):
-    material = visual.find('material')
-    if material is None:
-        return DEFAULT_COLOUR
-    colour = material.find('color')
-    if colour is not None:
-        return tuple(bd.floats(colour.get('rgba'), '', 4)[:3])
-    return named.get(material.get('name'), DEFAULT_COLOUR)
-
-
-def _geometry_mesh(geometry, colour):
-    """Return the mesh of a URDF <geometry>, or None for a mesh file (not drawn)."""
-    for shape in geometry:
-        if shape.tag == 'box':
-            return meshes.box(bd.floats(shape.get('size'), '', 3), colour)
-        if shape.tag == 'cylinder':
-            return meshes.cylinder(float(shape.get('radius')), float(shape.get('length')),
-                                   colour)
-        if shape.tag == 'sphere':
-            return meshes.sphere(float(shape.get('radius')), colour)
-        if shape.tag == 'mesh':
-            return None
-        raise ValueError('unknown geometry <%s>' % shape.tag)
-    raise ValueError('empty <geometry>')
-
-
 def link_meshes(urdf_text):
     """Return {link name: Mesh in the link's frame} of the URDF's visual boxes, cylinders and
-    spheres (links without any are left out; mesh files are skipped).
+    spheres (world.shapes.link_shapes; links without any are left out).
 
     Raises:
-        ShapeError: the text is not XML, or a visual has a malformed geometry or origin.
+        world.shapes.ShapeFileError: the text is not XML, or a visual is malformed.
     """
-    try:
-        root = ET.fromstring(urdf_text)
-    except ET.ParseError as error:
-        raise ShapeError('robot description is not XML: %s' % error) from error
-    named = {}
-    for material in root.findall('material'):
-        colour = material.find('color')
-        if colour is not None:
-            named[material.get('name')] = tuple(bd.floats(colour.get('rgba'), '', 4)[:3])
-    result = {}
-    for link in root.findall('link'):
-        parts = []
-        for visual in link.findall('visual'):
-            try:
-                geometry = visual.find('geometry')
-                if geometry is None:
-                    raise ValueError('no <geometry>')
-                mesh = _geometry_mesh(geometry, _colour(visual, named))
-                if mesh is not None:
-                    parts.append(meshes.transformed(mesh, bd.origin_matrix(visual)))
-            except (TypeError, ValueError) as error:
-                raise ShapeError('link %r: visual: %s' % (link.get('name'), error)) from None
-        if parts:
-            result[link.get('name')] = meshes.merged(parts)
-    return result
+    return {link: meshes.merged([scene.shape_mesh(shape, DEFAULT_COLOUR) for shape in parts])
+            for link, parts in shapes.link_shapes(urdf_text, ('visual',)).items()}
 
 
 class RobotPoser:
@@ -128,7 +74,8 @@ class RobotMesh:
     Args:
         urdf_text: the robot description (its joints and visuals).
     Raises:
-        ShapeError, baxter_description.DescriptionError: the description cannot be drawn.
+        world.shapes.ShapeFileError, baxter_description.DescriptionError: the description
+            cannot be drawn.
     """
 
     def __init__(self, urdf_text):

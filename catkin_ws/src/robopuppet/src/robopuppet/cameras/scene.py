@@ -6,15 +6,13 @@ obstacles use too); the world file adds a checkerboard `floor` and fixed room `c
 docs/cameras.md describes it. Pure: YAML text in, checked tuples and meshes out.
 """
 import collections
+import os
 
 import numpy as np
 
 from robopuppet.cameras import meshes
 from robopuppet.world import shapes
-
-# The shape format lives in world.shapes; scene's callers keep these names.
-Shape, parse_shape, shape_pose = shapes.Shape, shapes.parse_shape, shapes.shape_pose
-SceneError = shapes.ShapeFileError
+from robopuppet.world.shapes import ShapeFileError
 
 Floor = collections.namedtuple('Floor', 'z size tile colours')
 Floor.__doc__ = """A checkerboard floor: height z (m, base frame), square side size (m), tile
@@ -33,11 +31,12 @@ def _floor(value):
     if value is None:
         return None
     if not isinstance(value, dict) or set(value) - {'z', 'size', 'tile', 'colours'}:
-        raise SceneError('floor must be a mapping of z, size, tile, colours; got %r' % (value,))
+        raise ShapeFileError('floor must be a mapping of z, size, tile, colours; got %r'
+                             % (value,))
     colours = value.get('colours')
     if colours is not None:
         if not isinstance(colours, list) or len(colours) != 2:
-            raise SceneError('floor: colours must be two RGB colours, got %r' % (colours,))
+            raise ShapeFileError('floor: colours must be two RGB colours, got %r' % (colours,))
         colours = tuple(shapes.colour('floor: colours', c) for c in colours)
     return Floor(shapes.number('floor: z', value.get('z')),
                  shapes.number('floor: size', value.get('size', 8.0), positive=True),
@@ -49,16 +48,17 @@ def _cameras(value):
     if value is None:
         return {}
     if not isinstance(value, dict):
-        raise SceneError('cameras must be a mapping of camera name to pose, got %r' % (value,))
+        raise ShapeFileError('cameras must be a mapping of camera name to pose, got %r'
+                             % (value,))
     cameras = {}
     for name, entry in value.items():
         if not isinstance(entry, dict) or set(entry) - {'xyz', 'look_at', 'hfov_deg'}:
-            raise SceneError('camera %r must have xyz, look_at and hfov_deg, got %r'
-                             % (name, entry))
+            raise ShapeFileError('camera %r must have xyz, look_at and hfov_deg, got %r'
+                                 % (name, entry))
         where = 'camera %r: ' % name
         hfov_deg = shapes.number(where + 'hfov_deg', entry.get('hfov_deg', 60.0), positive=True)
         if hfov_deg >= 180.0:
-            raise SceneError(where + 'hfov_deg must be below 180, got %r' % hfov_deg)
+            raise ShapeFileError(where + 'hfov_deg must be below 180, got %r' % hfov_deg)
         camera = RoomCamera(shapes.vector(where + 'xyz', entry.get('xyz')),
                             shapes.vector(where + 'look_at', entry.get('look_at')), hfov_deg)
         look_at_pose(camera.xyz, camera.look_at)  # refuse a camera looking straight down now
@@ -70,7 +70,7 @@ def parse_world(text, where='the world file'):
     """Return the World of a world file's YAML text.
 
     Raises:
-        SceneError: not YAML, or an entry not in the format (the message names it).
+        ShapeFileError: not YAML, or an entry not in the format (the message names it).
     """
     document = shapes.load_document(text, ('frame', 'shapes', 'floor', 'cameras'), where)
     return World(shapes.parse_shapes(document, where), _floor(document.get('floor')),
@@ -78,13 +78,19 @@ def parse_world(text, where='the world file'):
 
 
 def load_world(path):
-    """Return the World of a file; raise SceneError (unreadable or malformed, naming it)."""
+    """Return the World of a file; raise ShapeFileError (unreadable or malformed, naming it)."""
+    return parse_world(shapes.read_text(path), path)
+
+
+def optional_shapes(path):
+    """Return (Shapes, problem) of an optional obstacle or zone file: ([], '') when there is
+    none or it does not exist, ([], why) when it cannot be used."""
+    if path is None or not os.path.exists(path):
+        return [], ''
     try:
-        with open(path) as stream:
-            text = stream.read()
-    except OSError as error:
-        raise SceneError('cannot read %s: %s' % (path, error)) from None
-    return parse_world(text, path)
+        return load_world(path).shapes, ''
+    except ShapeFileError as error:
+        return [], str(error)
 
 
 def look_at_pose(xyz, target, up=(0.0, 0.0, 1.0)):
@@ -92,14 +98,14 @@ def look_at_pose(xyz, target, up=(0.0, 0.0, 1.0)):
     looking at target, the image's up towards `up`.
 
     Raises:
-        SceneError: target is at xyz or straight along `up` from it.
+        ShapeFileError: target is at xyz or straight along `up` from it.
     """
     eye, target, up = (np.asarray(v, np.float64) for v in (xyz, target, up))
     forward = target - eye
     right = np.cross(forward, up)
     if np.linalg.norm(forward) < 1e-9 or np.linalg.norm(right) < 1e-9 * np.linalg.norm(forward):
-        raise SceneError('a camera at %s cannot look at %s with the image upright'
-                         % (tuple(eye), tuple(target)))
+        raise ShapeFileError('a camera at %s cannot look at %s with the image upright'
+                             % (tuple(eye), tuple(target)))
     forward /= np.linalg.norm(forward)
     right /= np.linalg.norm(right)
     pose = np.eye(4)
@@ -117,7 +123,7 @@ def shape_mesh(shape, default=DEFAULT_COLOUR):
         mesh = meshes.cylinder(shape.radius, shape.length, colour)
     else:
         mesh = meshes.sphere(shape.radius, colour)
-    return meshes.transformed(mesh, shape_pose(shape))
+    return meshes.transformed(mesh, shapes.shape_pose(shape))
 
 
 def world_mesh(world):

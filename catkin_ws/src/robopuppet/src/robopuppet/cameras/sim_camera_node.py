@@ -5,14 +5,13 @@ import time
 
 import rospkg
 import rospy
-import tf2_ros
-from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
-from geometry_msgs.msg import TransformStamped
-from sensor_msgs.msg import CameraInfo, CompressedImage, Image, JointState
+from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
+from sensor_msgs.msg import JointState
 from visualization_msgs.msg import MarkerArray
 
 from robopuppet import baxter_description as bd, interface, shape_markers
-from robopuppet.cameras import node_loops, scene, sim_cameras
+from robopuppet.cameras import camera_topics, node_loops, scene, sim_cameras
+from robopuppet.cameras.frame_rates import FrameRates
 from robopuppet.world import obstacles as obstacle_files
 
 
@@ -39,58 +38,37 @@ class SimCameraNode:
         pixels), ~quality (int 1..100, 80), ~cameras (list, room_camera, left_hand_camera,
         right_hand_camera; head_camera too if asked), ~world_file (str, the package's
         config/world.yaml), ~obstacles_file (str, unset: config/obstacles.yaml, '': none, as
-        baxter_sim's), drawn when it exists, ~zones_file (str, '': none; arm_X's keep-out zones), ~nice (int
-        0..19, 10: added to the node's nice value, so that under a full CPU its frames slow
-        down before the stand-in's and the arm controllers' loops do); /robot_description
-        (URDF text; the package's urdf/baxter.urdf when unset).
+        baxter_sim's), drawn when it exists, ~zones_file (str, '': none; arm_X's keep-out
+        zones), ~nice (int 0..19, 10: added to the node's nice value, so that under a full CPU
+        its frames slow down before the stand-in's and the arm controllers' loops do);
+        /robot_description (URDF text; the package's urdf/baxter.urdf when unset).
     """
 
     def __init__(self, settings, core):
         self.settings, self.core = settings, core
         self._name = rospy.get_name()
-        self._pubs = {}
-        for name in core.cameras:
-            self._pubs[name] = tuple(
-                rospy.Publisher(interface.camera_topic(name, what), kind, queue_size=1)
-                for what, kind in (('image', Image), ('image/compressed', CompressedImage),
-                                   ('camera_info', CameraInfo)))
-        self._diag_pub = rospy.Publisher(interface.DIAGNOSTICS, DiagnosticArray, queue_size=10)
-        self._lock = threading.Lock()  # _joints (callback) and the counters (diagnostics)
+        self._topics = {name: camera_topics.CameraTopics(
+            name, sim_cameras.camera_info_fields(camera, settings.width, settings.height), True)
+            for name, camera in core.cameras.items()}
+        self._lock = threading.Lock()  # _joints, between the callback and the render loop
         self._joints = None
-        self._rendered = dict.fromkeys(core.cameras, 0)
-        self._published = dict.fromkeys(core.cameras, 0)
-        self._last = (time.monotonic(), dict(self._rendered), dict(self._published))
-        self._cache = {}  # camera -> (version, raw bytes or None, JPEG bytes or None)
-        self._broadcaster = tf2_ros.StaticTransformBroadcaster()
-        self._broadcast_fixed_frames()
+        self._rates = FrameRates([(name, what) for name in core.cameras
+                                  for what in ('rendered', 'published')], time.monotonic())
+        self._broadcaster = camera_topics.broadcast_fixed_frames(
+            {c.frame_id: c.pose for c in core.cameras.values() if c.link is None})
         rospy.Subscriber(interface.ROBOT_JOINT_STATES, JointState, self._on_joints, queue_size=1)
 
     def run(self):
         """Render and publish until shutdown."""
         node_loops.spin('render', self.settings.rate_hz, self._tick, self._diagnose)
 
-    def _broadcast_fixed_frames(self):
-        transforms = []
-        for camera in self.core.cameras.values():
-            if camera.link is None:
-                t = TransformStamped()
-                t.header.stamp, t.header.frame_id = rospy.Time.now(), bd.BASE_FRAME
-                t.child_frame_id = camera.frame_id
-                t.transform.translation.x, t.transform.translation.y, \
-                    t.transform.translation.z = camera.pose[:3, 3]
-                r = t.transform.rotation
-                r.x, r.y, r.z, r.w = bd.matrix_quaternion(camera.pose[:3, :3])
-                transforms.append(t)
-        if transforms:
-            self._broadcaster.sendTransform(transforms)
-
     def _on_joints(self, msg):
         with self._lock:
             self._joints = (list(msg.name), list(msg.position))
 
     def _tick(self):
-        watched = [n for n, (raw, packed, _) in self._pubs.items()
-                   if raw.get_num_connections() or packed.get_num_connections()]
+        watched = {n: topics.watched() for n, topics in self._topics.items()}
+        watched = {n: ways for n, ways in watched.items() if any(ways)}
         if not watched:
             return
         with self._lock:
@@ -105,84 +83,37 @@ class SimCameraNode:
             rospy.logwarn_throttle(10.0, '%s: waiting for %s', self._name,
                                    interface.ROBOT_JOINT_STATES)
             return
-        for name in watched:
-            self._publish(name)
-
-    def _publish(self, name):
-        raw_pub, packed_pub, info_pub = self._pubs[name]
-        image, version = self.core.render(name)
-        stamp = rospy.Time.now()
-        cached, raw, packed = self._cache.get(name, (None, None, None))
-        if cached != version:
-            raw = packed = None
-            with self._lock:
-                self._rendered[name] += 1
-        s, frame_id = self.settings, self.core.cameras[name].frame_id
-        if raw_pub.get_num_connections():
-            raw = raw if raw is not None else image.tobytes()
-            msg = Image(height=s.height, width=s.width, encoding='bgr8', is_bigendian=0,
-                        step=s.width * 3, data=raw)
-            msg.header.stamp, msg.header.frame_id = stamp, frame_id
-            raw_pub.publish(msg)
-        if packed_pub.get_num_connections():
-            from robopuppet.cameras import jpeg  # OpenCV: loaded once someone watches a camera
-            packed = packed if packed is not None else jpeg.encode(image, s.quality)
-            msg = CompressedImage(format=jpeg.JPEG_FORMAT, data=packed)
-            msg.header.stamp, msg.header.frame_id = stamp, frame_id
-            packed_pub.publish(msg)
-        self._cache[name] = (version, raw, packed)
-        info = CameraInfo(**sim_cameras.camera_info_fields(self.core.cameras[name], s.width,
-                                                           s.height))
-        info.header.stamp, info.header.frame_id = stamp, frame_id
-        info_pub.publish(info)
-        with self._lock:
-            self._published[name] += 1
+        for name, (raw, packed) in watched.items():
+            self.core.render(name)
+            stamp = rospy.Time.now()
+            raw, packed, new = self.core.encode(name, raw, packed, self.settings.quality)
+            if new:
+                self._rates.add((name, 'rendered'))
+            self._topics[name].publish(stamp, self.core.cameras[name].frame_id, raw, packed)
+            self._rates.add((name, 'published'))
 
     def _diagnose(self):
-        now_s = time.monotonic()
-        with self._lock:
-            rendered, published = dict(self._rendered), dict(self._published)
-        then_s, then_rendered, then_published = self._last
-        self._last = (now_s, rendered, published)
-        span_s = max(now_s - then_s, 1e-3)
+        _, per_s = self._rates.read(time.monotonic())
         values, lines = [], []
         for name in self.core.cameras:
-            render_hz = (rendered[name] - then_rendered[name]) / span_s
-            publish_hz = (published[name] - then_published[name]) / span_s
+            render_hz, publish_hz = per_s[name, 'rendered'], per_s[name, 'published']
             values += [KeyValue('%s rendered_hz' % name, '%.1f' % render_hz),
                        KeyValue('%s published_hz' % name, '%.1f' % publish_hz)]
             if publish_hz > 0.0:
                 lines.append('%s %.1f/s' % (name, publish_hz))
-        array = DiagnosticArray(status=[DiagnosticStatus(
+        return DiagnosticStatus(
             level=DiagnosticStatus.OK, name='%s: simulated cameras' % self._name,
             message='publishing ' + ', '.join(lines) if lines else 'nobody watches',
-            hardware_id='simulated', values=values)])
-        array.header.stamp = rospy.Time.now()
-        self._diag_pub.publish(array)
+            hardware_id='simulated', values=values)
 
 
-def _package_file(path, folder, default_name):
-    return path or os.path.join(rospkg.RosPack().get_path('robopuppet'), folder, default_name)
-
-
-def _shapes_if_present(path):
-    """Return the shapes of an optional obstacle or zone file: [] when it does not exist, and
-    [] with an error logged when it is malformed (the cameras go on without them)."""
-    if path is None or not os.path.exists(path):
-        return []
-    try:
-        return scene.load_world(path).shapes
-    except scene.SceneError as error:
-        rospy.logerr('%s: not drawing %s: %s', rospy.get_name(), path, error)
-        return []
-
-
-def _urdf_text():
-    text = rospy.get_param('/robot_description', None)
-    if text:
-        return text
-    with open(bd.urdf_path(rospkg.RosPack().get_path('robopuppet'))) as urdf:
-        return urdf.read()
+def _optional_shapes(path):
+    """Return the shapes of an optional obstacle or zone file; log why a malformed one is not
+    drawn (the cameras go on without it)."""
+    found, problem = scene.optional_shapes(path)
+    if problem:
+        rospy.logerr('%s: not drawing %s: %s', rospy.get_name(), path, problem)
+    return found
 
 
 def main():
@@ -193,12 +124,15 @@ def main():
             '~' + name, default))
         # Pictures matter less than the stand-in's and the arm controllers' timing.
         os.nice(settings.nice)
-        world_file = _package_file(settings.world_file, 'config', 'world.yaml')
+        package_dir = rospkg.RosPack().get_path('robopuppet')
+        world_file = settings.world_file or os.path.join(package_dir, 'config', 'world.yaml')
         world = scene.load_world(world_file)
-        obstacles = _shapes_if_present(obstacle_files.chosen_path(
-            settings.obstacles_file, rospkg.RosPack().get_path('robopuppet')))
-        zones = _shapes_if_present(settings.zones_file or None)
-        core = sim_cameras.SimCameras(_urdf_text(), world, settings.width, settings.height,
+        obstacles = _optional_shapes(obstacle_files.chosen_path(settings.obstacles_file,
+                                                                package_dir))
+        zones = _optional_shapes(settings.zones_file or None)
+        urdf_text = rospy.get_param(interface.ROBOT_DESCRIPTION_PARAM, None) or \
+            bd.read_urdf(bd.urdf_path(package_dir))
+        core = sim_cameras.SimCameras(urdf_text, world, settings.width, settings.height,
                                       settings.cameras, obstacles, zones)
     except (OSError, ValueError) as error:
         rospy.logfatal('sim_cameras cannot start: %s', error)

@@ -145,7 +145,7 @@ class SimCameras:
         world: a scene.World (floor, shapes, fixed cameras).
         width, height: pixels of every image.
         names: the cameras to render (see make_cameras).
-        obstacles, zones: lists of scene.Shapes, drawn opaque orange-ish and translucent red.
+        obstacles, zones: lists of world.shapes.Shapes, drawn opaque orange-ish and translucent red.
         renderer_factory(width, height): makes the renderer (gl_renderer.Renderer).
     Raises:
         ValueError: an unknown camera name or a description that cannot be drawn.
@@ -170,6 +170,7 @@ class SimCameras:
         self.version = 0  # counts changes of the positions
         self._posed_version, self._link_poses = None, None
         self._images = {}  # camera name -> (version, image)
+        self._frames = {}  # camera name -> (version, raw bytes or None, JPEG bytes or None)
 
     def set_positions(self, positions):
         """Take {joint: position (rad or m)} (joints not given keep theirs); return True if
@@ -215,6 +216,23 @@ class SimCameras:
         image = self._renderer.render(self.camera_pose(name), self.cameras[name].k)
         self._images[name] = (self.version, image)
         return image, self.version
+
+    def encode(self, name, raw, packed, quality):
+        """Return (raw, packed, new) of a camera's last rendered image (render): raw BGR bytes
+        when raw, JPEG bytes at quality when packed (else None), each made once per version;
+        new: the first call for this version of the positions."""
+        version, image = self._images[name]
+        cached, raw_bytes, jpeg_bytes = self._frames.get(name, (None, None, None))
+        new = cached != version
+        if new:
+            raw_bytes = jpeg_bytes = None
+        if raw and raw_bytes is None:
+            raw_bytes = image.tobytes()
+        if packed and jpeg_bytes is None:
+            from robopuppet.cameras import jpeg  # OpenCV: loaded once someone watches a camera
+            jpeg_bytes = jpeg.encode(image, quality)
+        self._frames[name] = (version, raw_bytes, jpeg_bytes)
+        return raw_bytes if raw else None, jpeg_bytes if packed else None, new
 
     def close(self):
         """Release the renderer (a later render() makes a new one)."""

@@ -1,17 +1,16 @@
 """config_X: keeps one puppet arm's ini file, serves and publishes its settings."""
-import reprlib
 import threading
 import time
 
 import rospkg
 import rospy
-from std_msgs.msg import Float32, String
+from std_msgs.msg import Float32
 
 from robopuppet import interface, settings
-from robopuppet.config import config_file, config_store, feel_profile
-from robopuppet.config.follow_lock import TELEOP_STALE_S, FollowLock
+from robopuppet.config import config_file, config_store
+from robopuppet.config.arm_topics import ArmTopics
 from robopuppet.config.settings_keeper import SettingsKeeper
-from robopuppet_msgs.msg import ArmSettings, JointSettings, TeleopState
+from robopuppet_msgs.msg import ArmSettings, JointSettings
 from robopuppet_msgs.srv import (GetConfig, GetConfigResponse, SetArmConfig,
                                  SetArmConfigResponse, SetConfig, SetConfigResponse)
 
@@ -19,22 +18,29 @@ from robopuppet_msgs.srv import (GetConfig, GetConfigResponse, SetArmConfig,
 class ConfigNode:
     """Own the arm's joint settings: store a change only once the file holds it, then publish.
 
+    The node owns the file while it runs: edit it by hand only while the node is stopped. Its
+    [feel] section (gain_scale, voltage_limit) is read at start only (defaults when missing). A
+    damaged file (a bad [feel] value too) is backed up and repaired once at start. A file that
+    cannot be read, or cannot be written although it must be repaired or created, leaves the
+    node serving what it could read (or the defaults), refusing every change with that reason
+    until it restarts. Every refusal is logged (an error when it is about persistence).
+
     Serves: <ns>/set_config (robopuppet_msgs/SetConfig): some settings of one joint, stored all
-        or none (settings_keeper.SettingsKeeper.request: bounds, signs +-1, each minimum <= its
-        maximum after the whole request, the file written atomically; no change of what the
-        puppet's angles mean, settings.ANGLE_SETTINGS, while <ns>/teleop_state says a Baxter arm
-        follows: config.follow_lock); the answer holds what is stored now and, when refused,
-        why. <ns>/set_arm_config (robopuppet_msgs/SetArmConfig): settings of several joints
-        in one request (a calibration and its undo), checked as set_config's, stored all or
-        none with one atomic replace of the file and one revision (request_arm); the answer
-        holds all seven joints as stored now. <ns>/get_config (robopuppet_msgs/GetConfig): the
-        twelve settings of a joint; a joint outside 0..6 is a service error naming the range.
-    Publishes: <ns>/stored_settings (robopuppet_msgs/ArmSettings, latched): all seven joints,
-        at start and after every change written to the file; revision counts those changes.
-        <ns>/active_settings (robopuppet_msgs/ArmSettings, latched; serial_X loads it into the
-        device): at the same moments and whenever the profile changes, the same revision;
-        profile '' = the stored settings, 'feel' (while <ns>/opmode is feel) = those with the
-        file's [feel] gains laid over them (feel_profile.feel_joint), never written to the file.
+        or none (settings_keeper.SettingsKeeper.request: bounds, signs +-1, the ranges' rules
+        after the whole request, the file written atomically; no change of what the puppet's
+        angles mean, settings.ANGLE_SETTINGS, while <ns>/teleop_state says a Baxter arm follows:
+        config.follow_lock); the answer holds what is stored now and, when refused, why.
+        <ns>/set_arm_config (robopuppet_msgs/SetArmConfig): settings of several joints in one
+        request (a calibration and its undo), checked as set_config's, stored all or none with
+        one atomic replace of the file and one revision (request_arm); the answer holds all
+        seven joints as stored now. <ns>/get_config (robopuppet_msgs/GetConfig): the twelve
+        settings of a joint; a joint outside 0..6 is a service error naming the range.
+    Publishes (config.arm_topics): <ns>/stored_settings (robopuppet_msgs/ArmSettings, latched):
+        all seven joints, at start and after every change written to the file; revision counts
+        those changes. <ns>/active_settings (robopuppet_msgs/ArmSettings, latched; serial_X
+        loads it into the device): at the same moments and whenever the profile changes, the
+        same revision; profile '' = the stored settings, 'feel' (while <ns>/opmode is feel) =
+        those with the [feel] gains laid over them (feel_profile.feel_joint), never stored.
     Subscribes: <ns>/joint_J/<setting> (std_msgs/Float32), J = 0..6 and the twelve settings of
         settings.SETTINGS (the 2020 topics): each message is a one-setting set_config request.
         <ns>/opmode (std_msgs/String: limp, hold or feel): feel selects the feel profile, limp
@@ -43,28 +49,19 @@ class ConfigNode:
         follows. While arm_X publishes it, the node serves nothing before it has heard it
         (at most follow_lock.TELEOP_STALE_S), so that a node respawned while an arm follows
         never takes a new home_angle in its first moments.
-    Every refusal is logged: a warning for a refused value, an error when the change would not
-    persist. While the file cannot be written (read-only directory, full disk at start) every
-    request is refused with that reason.
     Parameters:
         ~arm_side (str, required): 'L' or 'R'; <ns> is /puppet/arm_<side>.
         ~file_name (str, default 'arm_<side>.ini'): the live file; a relative path is taken
             under $ROS_HOME/robopuppet/ (ROS_HOME defaults to ~/.ros).
         ~seed_file (str, default ''): the file copied when the live file does not exist yet,
             normally the package's config/arm_<side>.ini.
-    The node owns the file while it runs: edit it by hand only while the node is stopped.
-    The [feel] section (gain_scale, voltage_limit) is read at start only; a file without it
-    gets the defaults. A damaged file (a bad [feel] value too) is backed up and repaired once
-    at start. A file that cannot be read, or cannot be written although it must be repaired or
-    created, leaves the node serving what it could read (or the defaults), refusing every
-    change, until it is restarted.
     """
 
     def __init__(self):
         side = rospy.get_param('~arm_side')
         self._ns = interface.puppet_ns(side)
-        path = config_file.resolve_path(
-            rospy.get_param('~file_name', 'arm_%s.ini' % side), rospkg.get_ros_home())
+        self._path = path = config_file.resolve_path(
+            rospy.get_param('~file_name', interface.ini_file_name(side)), rospkg.get_ros_home())
         loaded = config_file.load_or_create(path, rospy.get_param('~seed_file', ''),
                                             time.strftime('%Y%m%d-%H%M%S'))
         for note in loaded.notes:
@@ -75,48 +72,27 @@ class ConfigNode:
             rospy.logerr('%s: %s; serving what could be read (or the defaults), but CHANGES '
                          'WILL NOT PERSIST: every change is refused until the node restarts '
                          'with a writable file', self._ns, loaded.unwritable)
-        self._path = path
         self._keeper = SettingsKeeper(loaded.config, loaded.text, loaded.unwritable, path,
                                       config_file.write_atomic)
         self._lock = threading.Lock()  # one request at a time; publishes in revision order
-        self._follow_lock = FollowLock()   # only under self._lock
-        self._heard_teleop = threading.Event()
-        self._feel = config_store.parse_feel(loaded.text)[0]
+        feel = config_store.parse_feel(loaded.text)[0]
         rospy.loginfo('%s: feel mode gains from %s: %s', self._ns, path, ', '.join(
-            '%s = %s' % (n, config_store.format_value(v)) for n, v in self._feel.items()))
-        self._profile = ''  # of active_settings: '' or feel_profile.PROFILE
-        self._stored_pub, self._active_pub = (
-            rospy.Publisher('%s/%s' % (self._ns, topic), ArmSettings, queue_size=1, latch=True)
-            for topic in (interface.STORED_SETTINGS, interface.ACTIVE_SETTINGS))
-        with self._lock:
-            self._publish()
+            '%s = %s' % (n, config_store.format_value(v)) for n, v in feel.items()))
+        with self._lock:   # an opmode waits for the first publish
+            self._topics = ArmTopics(self._ns, self._keeper.all_joints, self._lock, feel)
+            self._topics.publish()
         self._subscribers = [
             rospy.Subscriber(interface.joint_topic(side, joint, name), Float32, self._on_setting,
                              callback_args=(joint, name), queue_size=100)
             for joint in settings.JOINTS for name in settings.NAMES]
-        self._subscribers.append(rospy.Subscriber('%s/%s' % (self._ns, interface.OPMODE), String,
-                                                  self._on_opmode, queue_size=10))
-        self._subscribers.append(rospy.Subscriber(
-            '%s/%s' % (self._ns, interface.TELEOP_STATE), TeleopState, self._on_teleop_state,
-            queue_size=1))
-        self._await_teleop_state()
+        self._topics.await_teleop_state()
         self._services = [
-            rospy.Service('%s/%s' % (self._ns, interface.SET_CONFIG), SetConfig,
-                          self._set_config),
-            rospy.Service('%s/%s' % (self._ns, interface.SET_ARM_CONFIG), SetArmConfig,
-                          self._set_arm_config),
-            rospy.Service('%s/%s' % (self._ns, interface.GET_CONFIG), GetConfig,
-                          self._get_config)]
+            rospy.Service('%s/%s' % (self._ns, name), kind, handler) for name, kind, handler in (
+                (interface.SET_CONFIG, SetConfig, self._set_config),
+                (interface.SET_ARM_CONFIG, SetArmConfig, self._set_arm_config),
+                (interface.GET_CONFIG, GetConfig, self._get_config))]
         rospy.loginfo('serving %s/%s, %s and %s from %s', self._ns, interface.GET_CONFIG,
                       interface.SET_CONFIG, interface.SET_ARM_CONFIG, path)
-
-    def _await_teleop_state(self):
-        """Wait (at most TELEOP_STALE_S) for arm_X's latched teleop_state, if arm_X runs."""
-        topic = '%s/%s' % (self._ns, interface.TELEOP_STATE)
-        if (any(name == topic for name, _ in rospy.get_published_topics())
-                and not self._heard_teleop.wait(TELEOP_STALE_S)):
-            rospy.logwarn('%s: no %s within %g s: serving anyway', self._ns, topic,
-                          TELEOP_STALE_S)
 
     def _get_config(self, request):
         with self._lock:
@@ -146,12 +122,12 @@ class ConfigNode:
         its one joint), publish what is stored if it changed, log the outcome; return the
         Answer and the revision after it."""
         with self._lock:
-            frozen = self._follow_lock.why(time.monotonic())
+            frozen = self._topics.frozen(time.monotonic())
             answer = (self._keeper.request_arm(changes, frozen) if arm
                       else self._keeper.request(*changes[0], frozen))
             revision = self._keeper.revision
             if answer.written:
-                self._publish()
+                self._topics.publish()
         what = '; '.join('joint %d %s' % (joint, ', '.join(
             '%s = %r' % item for item in zip(names, values))) for joint, names, values in changes)
         if answer.written:
@@ -161,39 +137,6 @@ class ConfigNode:
         elif not answer.stored:
             rospy.logwarn('%s: refused %s; file and settings unchanged', self._ns, answer.error)
         return answer, revision
-
-    def _on_teleop_state(self, msg):
-        with self._lock:
-            self._follow_lock.on_teleop_state(time.monotonic(), msg.follow_left,
-                                              msg.follow_right)
-        self._heard_teleop.set()
-
-    def _on_opmode(self, msg):
-        if msg.data not in interface.OPMODES:
-            rospy.logwarn('%s: opmode must be one of %s, got %s; settings profile unchanged',
-                          self._ns, '/'.join(interface.OPMODES), reprlib.repr(msg.data))
-            return
-        profile = feel_profile.PROFILE if msg.data == interface.FEEL else ''
-        with self._lock:
-            if profile == self._profile:
-                return
-            self._profile = profile
-            self._publish(stored=False)
-        rospy.loginfo('%s: opmode %s: active_settings are %s', self._ns, msg.data,
-                      'the feel profile' if profile else 'the stored settings')
-
-    def _publish(self, stored=True):
-        """Publish active_settings, and (if stored) stored_settings; call with the lock held."""
-        revision, joints = self._keeper.all_joints()
-        stamp = rospy.Time.now()
-        for publisher, profile, values in (
-                (self._stored_pub, '', joints),
-                (self._active_pub, self._profile,
-                 feel_profile.active_joints(self._profile, joints, self._feel)))[not stored:]:
-            msg = ArmSettings(revision=revision, profile=profile, joints=[
-                JointSettings(joint=joint, **v) for joint, v in enumerate(values)])
-            msg.header.stamp = stamp
-            publisher.publish(msg)
 
 
 def main():

@@ -56,7 +56,8 @@ def check_request(joint_values, joint, names, values):
         InvalidSetting: every problem (each names joint, setting and value): a joint outside
             0..6, names and values of different lengths, an unknown or repeated name, a value
             that is not a number or not finite, a sign not +-1, a value outside its bound, a
-            minimum above its maximum once all values of the request are applied.
+            range that breaks its rule once all values of the request are applied
+            (settings.range_problems).
     """
     check_joint(joint)
     if len(names) != len(values):
@@ -82,23 +83,8 @@ def check_request(joint_values, joint, names, values):
         if reason:
             errors.append('%s: %s' % (where, reason))
             refused.add(name)
-    for low, high in settings.RANGE_PAIRS:
-        if low in refused or high in refused or result[low] <= result[high]:
-            continue
-        if high in requested and low not in requested:
-            errors.append('joint %d %s = %r: below %s = %s' % (
-                joint, high, requested[high], low, format_value(result[low])))
-        else:
-            errors.append('joint %d %s = %r: above %s = %s' % (
-                joint, low, requested.get(low, result[low]), high, format_value(result[high])))
-    for low, high in settings.ZERO_RANGES:
-        if (low in refused or high in refused or result[low] > result[high]
-                or result[low] <= 0.0 <= result[high]):
-            continue
-        errors.append('joint %d %s..%s = %s..%s: the range must hold 0 (the firmware\'s angle '
-                      'filter would drift the angle)' % (joint, low, high,
-                                                          format_value(result[low]),
-                                                          format_value(result[high])))
+    errors += ['joint %d %s' % (joint, why)
+               for _, _, why in settings.range_problems(result, requested, refused)]
     if errors:
         raise InvalidSetting(*errors)
     return result
@@ -210,20 +196,10 @@ def parse(text):
                                    format_value(settings.DEFAULTS[name])))
                 continue
             config[joint][name] = number
-        for low, high in settings.RANGE_PAIRS:
-            values = config[joint]
-            if values[low] > values[high]:
-                problems.append('[%s] %s = %r is above %s = %r: using defaults for both'
-                                % (sec, low, values[low], high, values[high]))
-                values[low] = to_float32(settings.DEFAULTS[low])
-                values[high] = to_float32(settings.DEFAULTS[high])
-        for low, high in settings.ZERO_RANGES:
-            values = config[joint]
-            if not values[low] <= 0.0 <= values[high]:
-                problems.append('[%s] %s..%s = %r..%r does not hold 0: using defaults for both'
-                                % (sec, low, high, values[low], values[high]))
-                values[low] = to_float32(settings.DEFAULTS[low])
-                values[high] = to_float32(settings.DEFAULTS[high])
+        for low, high, why in settings.range_problems(config[joint], {}):
+            problems.append('[%s] %s, using defaults for both' % (sec, why))
+            for name in (low, high):
+                config[joint][name] = to_float32(settings.DEFAULTS[name])
     return config, problems + feel_profile.feel_values(
         {name: text for (key, name), text in raw.items() if key == FEEL})[1]
 

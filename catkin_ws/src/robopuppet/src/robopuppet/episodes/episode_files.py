@@ -1,111 +1,24 @@
-"""An episode's files: the bag written as <name>.bag.active, its metadata, the folder's lock and
-crash repair.
+"""An episode's bag: written raw as <name>.bag.active, renamed <name>.bag when whole, and the
+repair of one that did not end.
 
-Uses rosbag (no rospy): the bag is written raw, from the bytes and connection header that
+Uses rosbag (no rospy): the bag is written from the bytes and connection header that
 rospy.AnyMsg received, so nothing is deserialised on the way. Times are genpy.Time (ROS time).
 """
-import fcntl
-import glob
-import hashlib
 import os
 import struct
 
 import genpy
 import rosbag
-import yaml
 
 from robopuppet.episodes import recording
+from robopuppet.episodes.episode_folder import leftovers, not_whole, sync
+from robopuppet.episodes.metadata import metadata_or_empty, write_metadata
 
 # Chunks are closed when they reach this size or at each flush, whichever comes first: a kill
 # loses only what came after the last flush.
 CHUNK_THRESHOLD_BYTES = 256 * 1024
 HEADER_KEYS = ('topic', 'type', 'md5sum', 'message_definition', 'callerid', 'latching')
-BAG_VERSION_LINE = b'#ROSBAG V2.0\n'
 BROKEN = '.broken'   # appended to a .bag that is not whole and cannot be repaired
-
-
-class FolderBusy(Exception):
-    """Another live process holds an episodes folder's lock (nothing in the folder was touched).
-
-    Attributes: directory, holder (what the holder wrote into the lock file, e.g.
-    'pid 4242 /recorder', or '' when unknown).
-    """
-
-    def __init__(self, directory, holder):
-        super().__init__('episodes folder %s is in use by another recorder (%s): one recorder '
-                         'per folder; stop that one, or give this one its own episodes_dir' % (
-                             directory, holder or 'pid unknown'))
-        self.directory, self.holder = directory, holder
-
-
-class FolderLock:
-    """One recorder per episodes folder: an exclusive flock on <directory>/recording.LOCK_FILE.
-
-    The kernel releases it when the holder's process ends, however it ends (kill -9 too), so a
-    crashed recorder never leaves it behind. The file stays (removing it would let two processes
-    lock two files of the same name); it holds 'pid <pid> <owner>' of the holder.
-
-    Raises:
-        FolderBusy: another live process holds it.
-        OSError: the folder or the lock file cannot be created or opened.
-    """
-
-    def __init__(self, directory, owner=''):
-        self.directory = directory
-        self.path = os.path.join(directory, recording.LOCK_FILE)
-        os.makedirs(directory, exist_ok=True)
-        try:
-            self._fd = os.open(self.path, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o644)
-        except PermissionError:  # another user's lock file: it can be locked all the same
-            self._fd = os.open(self.path, os.O_RDONLY | os.O_CLOEXEC)
-        try:
-            fcntl.flock(self._fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            holder = os.pread(self._fd, 200, 0).decode('utf-8', 'replace').strip()
-            self.release()
-            raise FolderBusy(directory, holder) from None
-        except OSError:
-            self.release()
-            raise
-        try:
-            os.ftruncate(self._fd, 0)
-            os.pwrite(self._fd, ('pid %d %s\n' % (os.getpid(), owner)).encode(), 0)
-        except OSError:
-            pass  # read-only: locked all the same, only the holder is not named
-
-    def held(self):
-        """Return True while this process holds the lock."""
-        return self._fd is not None
-
-    def release(self):
-        """Release the lock (the process's end does the same)."""
-        if self._fd is not None:
-            os.close(self._fd)
-            self._fd = None
-
-
-def write_metadata(path, data):
-    """Write a metadata dict as YAML atomically (temp file, fsync, rename); OSError on failure."""
-    temp = path + '.tmp'
-    try:
-        with open(temp, 'w') as out:
-            yaml.safe_dump(data, out, default_flow_style=False, sort_keys=False)
-            out.flush()
-            os.fsync(out.fileno())
-        os.replace(temp, path)
-    finally:
-        if os.path.exists(temp):
-            os.unlink(temp)
-
-
-def read_metadata(path):
-    """Return the metadata dict in path, or {} when it is missing or unreadable."""
-    try:
-        with open(path) as source:
-            data = yaml.safe_load(source)
-    except (OSError, yaml.YAMLError):
-        return {}
-    return data if isinstance(data, dict) else {}
 
 
 class BagWriter:
@@ -164,15 +77,6 @@ class BagWriter:
             pass
 
 
-def sync(path):
-    """Put a closed file's bytes on disk (before a rename says it is whole)."""
-    descriptor = os.open(path, os.O_RDONLY)
-    try:
-        os.fsync(descriptor)
-    finally:
-        os.close(descriptor)
-
-
 def bag_counts(path):
     """Return ({topic: messages}, duration_s) of a readable bag."""
     with rosbag.Bag(path) as bag:
@@ -202,7 +106,7 @@ def repair(path):
     sync(path)
     os.replace(path, base + recording.BAG)
     counts, duration_s = bag_counts(base + recording.BAG)
-    data = read_metadata(base + recording.META)
+    data = metadata_or_empty(base + recording.META)
     data.update(ended_cleanly=False, duration_s=float(duration_s), topics=dict(sorted(
         counts.items())))
     data.setdefault('name', os.path.basename(base))
@@ -237,53 +141,3 @@ def recover(lock):
             results.append((path, '', why))
     return results
 
-
-def leftovers(directory):
-    """Return the .bag.active files in directory (those of an episode that did not end)."""
-    return sorted(glob.glob(os.path.join(glob.escape(directory), '*' + recording.ACTIVE)))
-
-
-def not_whole(directory):
-    """Return the .bag files in directory that are not whole (is_whole false)."""
-    return [path for path in sorted(glob.glob(os.path.join(glob.escape(directory),
-                                                           '*' + recording.BAG)))
-            if not is_whole(path)]
-
-
-def is_whole(path):
-    """Return False when path is a rosbag 2.0 without a valid index (its header's index_pos is 0,
-    as while it is written, or beyond the file's end); True otherwise (only the header is read,
-    so that a start with many episodes stays quick)."""
-    try:
-        with open(path, 'rb') as source:
-            if source.readline() != BAG_VERSION_LINE:
-                return True  # not a bag this recorder wrote: not ours to judge
-            header = source.read(4096)
-            size = os.fstat(source.fileno()).st_size
-    except OSError:
-        return True
-    if len(header) < 4:
-        return False
-    (length,), pos, fields = struct.unpack_from('<i', header), 4, {}
-    while pos + 4 <= min(len(header), 4 + length):
-        (field_length,) = struct.unpack_from('<i', header, pos)
-        name, _, value = header[pos + 4:pos + 4 + field_length].partition(b'=')
-        fields[name] = value
-        pos += 4 + field_length
-    index = fields.get(b'index_pos', b'')
-    return len(index) == 8 and 0 < struct.unpack('<Q', index)[0] < size
-
-
-def ini_fingerprint(path):
-    """Return the sha256 hex digest of a file's bytes, or None when it cannot be read."""
-    try:
-        with open(path, 'rb') as source:
-            return hashlib.sha256(source.read()).hexdigest()
-    except OSError:
-        return None
-
-
-def free_bytes(directory):
-    """Return the bytes free for an unprivileged writer on directory's file system."""
-    stats = os.statvfs(directory)
-    return stats.f_bavail * stats.f_frsize

@@ -15,9 +15,8 @@ import datetime
 import os
 import sys
 
-import yaml
-
 from robopuppet.episodes import export_files, recording
+from robopuppet.episodes.metadata import metadata_or_empty
 from robopuppet.interface import PUPPET_SIDES
 
 EXPORTED = (('.hdf5', 'hdf5'), ('.csv', 'csv'), ('.png', 'png'))
@@ -32,15 +31,6 @@ Entry.__doc__ = """One episode: name, start (datetime, local; None when unknown)
 (None when unknown), sides ('R', 'LR'), cameras (count; None when unknown), size_bytes (its
 bag), ended ('clean', 'repaired', 'recording', 'broken'), exported (['hdf5', 'csv', 'png'] of
 the files beside it), notes."""
-
-
-def _metadata(path):
-    try:
-        with open(path) as stream:
-            data = yaml.safe_load(stream)
-    except (OSError, yaml.YAMLError):
-        return {}
-    return data if isinstance(data, dict) else {}
 
 
 def _start(metadata, name):
@@ -75,7 +65,7 @@ def entries(directory):
             continue
         name = file_name[:-len(suffix)]
         base = os.path.join(directory, name)
-        meta = _metadata(base + recording.META)
+        meta = metadata_or_empty(base + recording.META)
         if ended is None:
             ended = 'repaired' if meta.get('ended_cleanly') is False else 'clean'
         duration = meta.get('duration_s')

@@ -21,8 +21,9 @@ import signal
 import sys
 import time
 
-from robopuppet.episodes import (export, export_act, export_files, export_images, export_run,
-                                 export_size, export_writers)
+from robopuppet.episodes import (bag_chunks, export, export_act, export_files, export_images,
+                                 export_run, export_size, export_writers)
+from robopuppet.episodes.metadata import EpisodeError, episode_paths, read_metadata
 from robopuppet.interface import ROBOT_JOINT_STATES
 
 FORMATS = {'aloha-hdf5': '.hdf5', 'csv': '.csv'}
@@ -100,11 +101,11 @@ def export_episode(episode, args, say):
     skipped. say(text) reports progress, and what could not be read and was skipped.
 
     Raises:
-        export_files.EpisodeError, export.ExportError: the episode cannot be exported.
+        EpisodeError, export.ExportError: the episode cannot be exported.
     """
-    bag_path, yaml_path = export_files.episode_paths(resolve(episode))
+    bag_path, yaml_path = episode_paths(resolve(episode))
     name = os.path.basename(bag_path)[:-len('.bag')]
-    metadata = export_files.read_metadata(yaml_path)
+    metadata = read_metadata(yaml_path)
     if not metadata:
         say('%s: no %s: taking sim as false' % (name, os.path.basename(yaml_path)))
     out_dir = args.out or os.path.dirname(os.path.abspath(bag_path))
@@ -128,7 +129,7 @@ def export_episode(episode, args, say):
             cameras = _cameras(bag_path, name, metadata, cameras, say)
             _check_size(bag_path, name, cameras, args, os.path.dirname(paths['aloha-hdf5']),
                         say)
-        skipped = export_files.Skipped()
+        skipped = bag_chunks.Skipped()
         try:
             export_run.write(bag_path, name, outputs, args.rate, bool(metadata.get('sim')),
                              cameras, skipped, lambda text: say('%s: %s' % (name, text)),
@@ -272,7 +273,7 @@ def main(argv=None):
             _, skipped = export_episode(
                 episode, args, lambda text: print('export: ' + text, flush=True))
             damaged += bool(skipped.reasons)
-        except (export_files.EpisodeError, export.ExportError, OSError) as error:
+        except (EpisodeError, export.ExportError, OSError) as error:
             failed += 1
             print('export: %s: error: %s' % (episode, error), file=sys.stderr, flush=True)
     if damaged:

@@ -8,25 +8,26 @@ import time
 
 import numpy as np
 
-from robopuppet.episodes import export, export_files, export_plot, export_stream, export_writers
+from robopuppet.episodes import (bag_chunks, export, export_files, export_plot, export_stream,
+                                 export_writers)
 from robopuppet.interface import ROBOT_JOINT_STATES
 
 
 def write(bag_path, name, outputs, rate_hz, sim, cameras, skipped, say, progress, size=None,
           compression=export_writers.IMAGE_COMPRESSION):
     """Write an episode's outputs ({'aloha-hdf5' | 'csv' | 'plot': an object with .partial,
-    the path to write}); skipped (export_files.Skipped) counts what cannot be read. The HDF5's
+    the path to write}); skipped (bag_chunks.Skipped) counts what cannot be read. The HDF5's
     images are scaled to size (W, H; None: as recorded) and stored with the HDF5 filter
     compression.
 
     Raises:
-        export_files.EpisodeError, export.ExportError: the episode cannot be exported.
+        metadata.EpisodeError, export.ExportError: the episode cannot be exported.
     """
     started = time.monotonic()
-    bag = export_files.open_bag(bag_path)
+    bag = bag_chunks.open_bag(bag_path)
     with bag:
         topics = export.episode_topics()
-        t0, spans = export_files.index_times(bag, topics)
+        t0, spans = bag_chunks.index_times(bag, topics)
         if ROBOT_JOINT_STATES not in spans:
             raise export.no_joint_states()
         start, end = spans[ROBOT_JOINT_STATES]
@@ -37,7 +38,7 @@ def write(bag_path, name, outputs, rate_hz, sim, cameras, skipped, say, progress
             plot='plot' in outputs)
         writers = _Writers(outputs, stream.steps, sim, rate_hz, name)
         try:
-            for topic, msg, t in export_files.messages(bag, topics, skipped=skipped, t0=t0):
+            for topic, msg, t in bag_chunks.messages(bag, topics, skipped=skipped, t0=t0):
                 writers.add(stream.add(topic, msg, (t - t0).to_sec()))
             writers.add(stream.finish())
             say('%.1f s of episode, %d steps at %g Hz (%.1f s)' % (

@@ -1,7 +1,7 @@
 """What the two episode players share: step the core at its rate, send each Step, know when to
 exit, and say how far the episode has played.
 
-The ROS side of robopuppet.episodes.replay_node's ReplayNode (onto Baxter) and
+The ROS side of robopuppet.episodes.robot_player's RobotPlayer (onto Baxter) and
 robopuppet.episodes.puppet_player's PuppetPlayer (into the puppet); both cores (replay.Replay,
 puppet_playback.PuppetPlayback) play an episode forward in time at a speed factor, stop on their
 stop rules and report their phase, why and progress() alike.

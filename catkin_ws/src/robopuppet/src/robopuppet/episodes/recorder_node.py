@@ -1,24 +1,15 @@
 """recorder: demonstration episodes as rosbags, started and stopped by button 4 or a service."""
-import io
-import os
-import socket
 import sys
 import threading
 import time
-import xmlrpc.client
 
-import rosgraph
-import rosgraph.network
-import rospkg
 import rospy
-import rospy.client
-from rospy.impl.validators import ParameterInvalid
 from std_msgs.msg import UInt8
 
 from robopuppet import interface
-from robopuppet.config import config_file
-from robopuppet.episodes import episode_files, recording
-from robopuppet.episodes.session import Recorder
+from robopuppet.episodes import recording
+from robopuppet.episodes.recorder_claim import FolderHold, claim
+from robopuppet.episodes.recorder_params import make_recorder, running_system
 from robopuppet.link_recovery import LinkRecovery
 from robopuppet.periodic import Guard, Loop
 from robopuppet_msgs.msg import RecordingState
@@ -28,7 +19,6 @@ FLUSH_PERIOD_S = 0.5   # a kill loses at most this much (plus what is still in f
 STATUS_EVERY = 2       # publish the status every this many flushes (once a second)
 QUEUE_SIZE = 200       # per topic: 2 s of a 100 Hz topic while a flush holds the lock
 NODE_NAME = 'recorder'
-PROBE_TIMEOUT_S = 2.0  # a /puppet/record provider that does not answer a probe within is not live
 
 
 class RecorderNode:
@@ -41,9 +31,9 @@ class RecorderNode:
     Serves: /puppet/record (robopuppet_msgs/Record).
     Publishes: /puppet/recording (robopuppet_msgs/RecordingState, latched): on every change
         and once a second while recording.
-    Holds the episodes folder's episode_files.FolderLock (main takes it before the node
-    registers; one recorder per folder) and repairs, under it, what the folder holds of episodes
-    that did not end (episode_files.recover).
+    Holds the episodes folder's lock (recorder_claim: main takes it before the node registers;
+    one recorder per folder) and repairs, under it, what the folder holds of episodes that did
+    not end.
     Parameters:
         ~sides (str, default 'LR'): the puppet sides recorded, e.g. 'R'.
         ~cameras (list of str, default interface.SIM_CAMERAS: room_camera,
@@ -57,29 +47,20 @@ class RecorderNode:
 
     def __init__(self, directory, folder):
         """directory: the episodes folder (episodes_dir); folder: its held FolderLock, or None
-        when it could not be taken (the node tries again at each start and records only under
-        it)."""
-        sides = recording.parse_sides(rospy.get_param('~sides', 'LR'))
-        cameras = recording.parse_cameras(rospy.get_param('~cameras',
-                                                          list(interface.SIM_CAMERAS)))
-        self._sim = bool(rospy.get_param('~sim', False))
+        (tried again at each start: episodes are recorded only under it)."""
+        self._recorder, self._sim = make_recorder(directory)
+        sides, cameras = self._recorder.sides, self._recorder.cameras
         self._lock = threading.Lock()     # the Recorder, the episode number, the status
         self._switch = threading.Lock()   # one start or stop (and its subscriptions) at a time
-        self._recorder = Recorder(directory, sides, cameras,
-                                  float(rospy.get_param('~min_free_mb',
-                                                        recording.DEFAULT_MIN_FREE_MB)),
-                                  episode_files)
-        self._folder = folder
-        if folder is not None:
-            self._repair()
-        problem = self._claim()
+        self._folder = FolderHold(directory, folder, rospy.get_name())
+        problem = self._folder.claim()
         if problem:
             rospy.logwarn('%s: episodes are refused until it can be', problem)
         self._episode_topics = recording.episode_topics(sides, cameras)
         self._subscribers = []   # the running episode's (under _switch)
         self._number = 0         # of the newest episode: late messages of older ones are dropped
         self._ticks = 0
-        self._status_pub = rospy.Publisher(recording.RECORDING_TOPIC, RecordingState,
+        self._status_pub = rospy.Publisher(interface.RECORDING_TOPIC, RecordingState,
                                            queue_size=1, latch=True)
         self._publish()
         self._edges = {}
@@ -87,7 +68,7 @@ class RecorderNode:
             self._edges[topic] = recording.ButtonEdge()
             rospy.Subscriber(topic, rospy.AnyMsg, self._on_button, callback_args=topic,
                              queue_size=QUEUE_SIZE)
-        self._service = rospy.Service(recording.RECORD_SERVICE, Record, self._on_record)
+        self._service = rospy.Service(interface.RECORD_SERVICE, Record, self._on_record)
         guard = Guard(rospy.get_name(), rospy.logerr)
         self._loop = Loop(guard, 'recorder flush', FLUSH_PERIOD_S, self._tick).start()
         # After a cut: connect anew to the robot host's publishers once Baxter's stream is stuck.
@@ -95,44 +76,13 @@ class RecorderNode:
         rospy.on_shutdown(self._shutdown)
         rospy.loginfo('recording sides %s and cameras %s into %s (button %d or %s)',
                       ''.join(sides), ', '.join(cameras) or 'none', self._recorder.directory,
-                      recording.RECORD_BUTTON, recording.RECORD_SERVICE)
-
-    def _claim(self):
-        """Take the folder's lock unless held (then repair); return '' or why it cannot."""
-        if self._folder is None:
-            try:
-                self._folder = episode_files.FolderLock(self._recorder.directory,
-                                                        rospy.get_name())
-            except episode_files.FolderBusy as error:
-                return str(error)
-            except OSError as error:
-                return 'cannot lock %s: %s' % (self._recorder.directory, error)
-            self._repair()
-        return ''
-
-    def _repair(self):
-        for path, repaired, error in episode_files.recover(self._folder):
-            if error:
-                rospy.logerr('cannot repair %s: %s', path, error)
-            else:
-                rospy.logwarn('repaired %s, left by an episode that did not end%s (%s)',
-                              repaired, '' if path.endswith(recording.ACTIVE) else
-                              ' (it had no index)', 'ended_cleanly: false')
-
-    def _context(self):
-        """Return what the metadata needs of the running system."""
-        side = self._recorder.sides[0]
-        rate = rospy.get_param('/arm_%s/comm_rate' % side, None)
-        fingerprints = {s: episode_files.ini_fingerprint(config_file.resolve_path(
-            rospy.get_param('/config_%s/file_name' % s, 'arm_%s.ini' % s),
-            rospkg.get_ros_home())) for s in self._recorder.sides}
-        return rate, fingerprints, self._sim
+                      interface.BUTTON_RECORD, interface.RECORD_SERVICE)
 
     def _start(self, notes):
-        context = self._context()
+        context = running_system(self._recorder.sides) + (self._sim,)
         with self._switch:
             self._unsubscribe()  # those of an episode that stopped itself (disk, write error)
-            problem = self._claim()
+            problem = self._folder.claim()
             with self._lock:
                 answer = self._recorder.refuse(problem) if problem else self._recorder.start(
                     notes, rospy.get_time(), time.time(), *context)
@@ -215,76 +165,9 @@ class RecorderNode:
             self._stop('')
 
 
-def record_provider(master, caller_id):
-    """Return who serves RECORD_SERVICE live, e.g. '/recorder (pid 4242)', or '' when nobody:
-    not registered, or registered by a process that is gone (the master keeps a killed node's
-    registration) or does not answer a probe within PROBE_TIMEOUT_S."""
-    try:
-        address = rospy.core.parse_rosrpc_uri(master.lookupService(recording.RECORD_SERVICE))
-        with socket.create_connection(address, PROBE_TIMEOUT_S) as sock:
-            sock.settimeout(PROBE_TIMEOUT_S)
-            rosgraph.network.write_ros_handshake_header(sock, {
-                'probe': '1', 'md5sum': '*', 'callerid': caller_id,
-                'service': recording.RECORD_SERVICE})
-            header = rosgraph.network.read_ros_handshake_header(sock, io.BytesIO(), 4096)
-    except (rosgraph.MasterException, ParameterInvalid, OSError,
-            rosgraph.network.ROSHandshakeException):
-        return ''
-    if 'error' in header:
-        return ''  # the port is another node's now
-    node = header.get('callerid', 'an unknown node')
-    timeout_s = socket.getdefaulttimeout()
-    socket.setdefaulttimeout(PROBE_TIMEOUT_S)
-    try:
-        pid = xmlrpc.client.ServerProxy(master.lookupNode(node)).getPid(caller_id)[2]
-    except (rosgraph.MasterException, OSError, xmlrpc.client.Error, LookupError, TypeError):
-        return node
-    finally:
-        socket.setdefaulttimeout(timeout_s)
-    return '%s (pid %s)' % (node, pid)
-
-
-def _episodes_dir(master, node, argv):
-    """Return ~episodes_dir (absolute) as rospy will see it, before the node registers."""
-    params = rospy.client.load_command_line_node_params(argv)
-    value = params.get('episodes_dir')
-    if value is None:
-        try:
-            value = master.getParam(rosgraph.names.ns_join(node, 'episodes_dir'))
-        except rosgraph.MasterException:
-            value = ''
-    return os.path.abspath(os.path.expanduser(str(value or '') or recording.episodes_dir(
-        rospkg.get_ros_home())))
-
-
-def _refuse(why):
-    sys.stderr.write('recorder: refused: %s\n' % why)
-    sys.exit(2)
-
-
 def main():
-    """Run the recorder node until ROS shuts down; refuse (exit code 2, no episode touched, nothing
-    registered with the master) when a live recorder holds the episodes folder or serves
-    RECORD_SERVICE (rospy would take that over from it)."""
-    argv = sys.argv
-    node = rosgraph.names.ns_join(rosgraph.names.get_ros_namespace(argv=argv),
-                                  rosgraph.names.load_mappings(argv).get('__name', NODE_NAME))
-    master = rosgraph.Master(node)
-    while not rosgraph.is_master_online(master.master_uri):
-        time.sleep(0.5)  # as rospy.init_node would wait for it
-    directory = _episodes_dir(master, node, argv)
-    folder = None
-    try:
-        folder = episode_files.FolderLock(directory, node)
-    except episode_files.FolderBusy as error:
-        _refuse(error)
-    except OSError:
-        pass  # the node says why and tries again at each start
-    provider = record_provider(master, node)
-    if provider:
-        _refuse('%s is served already by %s: one recorder per ROS master (rospy would take '
-                'the service over from it); stop that one first' % (
-                    recording.RECORD_SERVICE, provider))
+    """Run the recorder node until ROS shuts down, once recorder_claim.claim let it start."""
+    directory, folder = claim(sys.argv, NODE_NAME)
     rospy.init_node(NODE_NAME)
     RecorderNode(directory, folder)
     rospy.spin()

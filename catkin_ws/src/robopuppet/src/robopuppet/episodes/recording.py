@@ -12,14 +12,11 @@ import time
 from robopuppet import interface
 
 FORMAT_VERSION = 1
-RECORD_BUTTON = 4                 # the user button that starts and stops an episode
-RECORD_SERVICE = '/puppet/record'         # robopuppet_msgs/Record
-RECORDING_TOPIC = '/puppet/recording'     # robopuppet_msgs/RecordingState, latched
 DEFAULT_MIN_FREE_MB = 200.0       # below this free space an episode neither starts nor goes on
 NAME_PREFIX = 'episode_'
 BAG, ACTIVE, META = '.bag', '.bag.active', '.yaml'
 LOCK_FILE = '.recorder.lock'      # in the episodes folder: one recorder per folder (flock)
-CAMERA_IMAGE = 'image/compressed'  # what an episode holds of each recorded camera (JPEG)
+CAMERA_IMAGE = interface.CAMERA_COMPRESSED  # what an episode holds of each camera (JPEG)
 CAMERA_NAME = re.compile(r'[A-Za-z][A-Za-z0-9_]*\Z')  # a ROS name segment, e.g. room_camera
 # A side's own topics (relative to interface.puppet_ns(side)).
 SIDE_TOPICS = (interface.JOINT_STATES,) + tuple(
@@ -99,7 +96,7 @@ class ButtonEdge:
     change, so a first reading of the button is a press).
     """
 
-    def __init__(self, button=RECORD_BUTTON):
+    def __init__(self, button=interface.BUTTON_RECORD):
         self._button = button
         self._held = False
 

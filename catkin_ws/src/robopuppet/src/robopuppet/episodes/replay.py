@@ -2,7 +2,7 @@
 stopped.
 
 Pure: no rospy, time (s) is an argument; angles in rad, speeds in rad/s, gripper positions in
-percent of travel (0 closed, 100 open). The node (replay_node) feeds it what Baxter and the
+percent of travel (0 closed, 100 open). The player (robot_player) feeds it what Baxter and the
 puppet report and publishes what step() returns.
 
 Safety, the arm controller's rules: every command is clamped to the URDF's joint limits and

@@ -8,9 +8,8 @@ import collections
 import glob
 import os
 
-import yaml
-
 from robopuppet.episodes import recording
+from robopuppet.episodes.metadata import metadata_or_empty
 from robopuppet.interface import PUPPET_SIDES
 
 REPLAY_COMMAND = ('rosrun', 'robopuppet', 'replay')
@@ -39,7 +38,7 @@ def list_episodes(directory):
     episodes = []
     for bag in glob.glob(os.path.join(glob.escape(directory), '*' + recording.BAG)):
         name = os.path.basename(bag)[:-len(recording.BAG)]
-        meta = _metadata(bag[:-len(recording.BAG)] + recording.META)
+        meta = metadata_or_empty(bag[:-len(recording.BAG)] + recording.META)
         sides = tuple(s for s in PUPPET_SIDES if s in (meta.get('sides') or ()))
         duration = meta.get('duration_s')
         episodes.append(Episode(name, bag, sides, float(duration) if isinstance(
@@ -52,15 +51,6 @@ def _name_key(name):
     base, _, suffix = name.rpartition('_')
     return (base, int(suffix)) if suffix.isdigit() and base.startswith(
         recording.NAME_PREFIX) else (name, 1)
-
-
-def _metadata(path):
-    try:
-        with open(path) as stream:
-            data = yaml.safe_load(stream)
-    except (OSError, yaml.YAMLError):
-        return {}
-    return data if isinstance(data, dict) else {}
 
 
 def label(episode):

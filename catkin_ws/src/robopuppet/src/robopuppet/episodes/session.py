@@ -1,8 +1,8 @@
 """The recorder's episodes one after another: start, write, flush, stop, and every refusal.
 
-No rospy and no clock: the node passes times in and the file operations (episode_files, or a
-test's fakes) as an object. A failure to write never raises out of here: the episode stops and
-the Status says why, so that the node keeps running.
+No rospy and no clock: the node passes times in and the file operations (recorder_params.FILES,
+or a test's fakes) as an object. A failure to write never raises out of here: the episode stops
+and the Status says why, so that the node keeps running.
 """
 import os
 import time
@@ -22,7 +22,7 @@ class Recorder:
         min_free_mb: free space (MB) below which an episode neither starts nor goes on.
         files: BagWriter(directory, name) (write(topic, msg, stamp_s) -> bytes, flush(),
             size_bytes(), close(), abandon(), .path), write_metadata(path, dict) and
-            free_bytes(directory), as in episode_files; each may raise OSError.
+            free_bytes(directory), as in recorder_params.FILES; each may raise OSError.
     """
 
     def __init__(self, directory, sides, cameras, min_free_mb, files):

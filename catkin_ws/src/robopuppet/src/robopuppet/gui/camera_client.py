@@ -76,7 +76,7 @@ class CameraClient:
 
     def _subscribe(self, camera, slot):
         """Return a subscriber (anything with unregister()) that feeds _on_image."""
-        return rospy.Subscriber(interface.camera_topic(camera, 'image/compressed'),
+        return rospy.Subscriber(interface.camera_topic(camera, interface.CAMERA_COMPRESSED),
                                 CompressedImage, self._on_image, (camera, slot), queue_size=1,
                                 buff_size=BUFFER_BYTES)
 

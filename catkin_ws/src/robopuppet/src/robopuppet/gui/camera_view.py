@@ -10,6 +10,8 @@ import threading
 import cv2
 import numpy as np
 
+from robopuppet import interface
+
 # ---- the thresholds of the pane's colour (one place) -----------------------------------------
 AGE_WARN_S = 0.3     # the frame shown was captured longer ago than this: amber
 AGE_ERROR_S = 1.0    # ... red: what the nurse sees is no longer what happens
@@ -127,7 +129,7 @@ def judge(now_s, frame, subscribed_s):
 def own_camera(baxter_arm):
     """Return the hand camera of Baxter's arm 'left' or 'right': the camera an operator
     driving that arm looks through first."""
-    return '%s_hand_camera' % baxter_arm
+    return interface.hand_camera(baxter_arm)
 
 
 def camera_list(published_topics, known=()):
@@ -138,8 +140,8 @@ def camera_list(published_topics, known=()):
         published_topics: [(topic, type)] as rospy.get_published_topics() returns them.
         known: camera names always offered (Baxter's and the room camera).
     """
-    live = sorted({topic.split('/')[2] for topic, kind in published_topics
-                   if kind == 'sensor_msgs/CompressedImage' and topic.startswith('/cameras/')
-                   and topic.endswith('/image/compressed') and topic.count('/') == 4})
+    live = sorted({interface.camera_of_topic(topic, interface.CAMERA_COMPRESSED)
+                   for topic, kind in published_topics
+                   if kind == 'sensor_msgs/CompressedImage'} - {None})
     return [(name, True) for name in live] + [(name, False) for name in known
                                               if name not in live]

@@ -156,12 +156,17 @@ class DeviceSettings:
         if self._batch is not batch:
             return  # unload() during the write: what the batch carries is not held
         if not written:
-            self._failed(batch)
+            self._failed('settings (revision %d) not sent: a write failed' % batch.revision)
             return
         batch.sent += 1
         self._next_s = self._clock() + self._pause_s
         if batch.sent == len(batch.writes):
             self._done(batch)
+
+    def write_failed(self):
+        """A write that write() took failed later: the device may lack what it carried, so load
+        everything again RETRY_S later (or after the next unload)."""
+        self._failed('a write to the device failed: the settings it holds are not known')
 
     def _make_batch(self):
         """Return the batch that makes the device hold the stored settings, or None."""
@@ -194,10 +199,10 @@ class DeviceSettings:
         else:
             self._log_info('settings revision %d: sent %s' % (batch.revision, ', '.join(sent)))
 
-    def _failed(self, batch):
+    def _failed(self, why):
         if not self._failing:
-            self._log_warn('settings (revision %d) not sent: a write failed; loading all of them '
-                           'again in %.0f s or after the reconnect' % (batch.revision, RETRY_S))
+            self._log_warn('%s; loading all of them again in %.0f s or after the reconnect'
+                           % (why, RETRY_S))
         self.unload(load=True)
         self._failing = True
         self._next_s = self._clock() + RETRY_S
@@ -206,8 +211,8 @@ class DeviceSettings:
 def _problem(joints):
     """Return why (joint, {name: value}) pairs cannot go to the device, or None if they can.
 
-    Besides the wire format, the bounds of settings.SETTINGS (signs +-1, each minimum <= its
-    maximum, settings.ZERO_RANGES holding 0): config_X never publishes other values, but
+    Besides the wire format, the bounds of settings.SETTINGS (signs +-1) and the ranges'
+    rules (settings.range_problems): config_X never publishes other values, but
     anyone may publish on active_settings, and a sign_angle of 4 would make every later frame
     implausible (dropped), a negative gain drive a motor away from its setpoint.
     """
@@ -223,12 +228,6 @@ def _problem(joints):
             why = settings.implausible(name, to_float32(value))   # as the frame carries it
             if why:
                 return 'joint %d %s = %r: %s' % (joint, name, value, why)
-        for low, high in settings.RANGE_PAIRS:
-            if values[low] > values[high]:
-                return 'joint %d %s = %r is above %s = %r' % (joint, low, values[low], high,
-                                                              values[high])
-        for low, high in settings.ZERO_RANGES:
-            if not values[low] <= 0.0 <= values[high]:
-                return 'joint %d %s..%s = %r..%r does not hold 0' % (joint, low, high,
-                                                                     values[low], values[high])
+        for _, _, why in settings.range_problems(values):
+            return 'joint %d %s' % (joint, why)
     return None

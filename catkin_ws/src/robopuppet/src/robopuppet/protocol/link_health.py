@@ -1,4 +1,4 @@
-"""How serial_X judges its link: a silence watch and the /diagnostics level and message.
+"""How serial_X judges its link: a silence watch and the /diagnostics status.
 
 Pure: no rospy, no clock (time is an argument, in s).
 """
@@ -22,6 +22,15 @@ None before any), publishers (of active_settings, as the subscription sees them)
 heartbeat_age_s (None: none yet), rate_problem (device_commands.rate_problem's text or None),
 new_errors (callback errors survived since the last status), last_error (the newest one's text).
 """
+
+LinkFacts = collections.namedtuple(
+    'LinkFacts', 'connected connects write_errors callback_errors last_error publishers')
+LinkFacts.__doc__ = """What the node knows of its port and subscription when it steps the core:
+connected (the port is open), connects, write_errors, callback_errors (totals), last_error (the
+newest callback error's text), publishers (of active_settings)."""
+Diagnostics = collections.namedtuple('Diagnostics', 'level message values')
+Diagnostics.__doc__ = """One /diagnostics status: level (OK, WARN or ERROR), message, values
+((key, text) pairs)."""
 
 
 class SilenceWatch:
@@ -86,3 +95,30 @@ def level_and_message(health):
         return WARN, ('link up; %d callback errors survived in the last second: %s'
                       % (health.new_errors, health.last_error))
     return OK, 'link up'
+
+
+def diagnostics(health, link, receiver, profile, frames_per_s, rate_hz, comm_rate_hz):
+    """Return the Diagnostics of a Health, its values the link's (LinkFacts) and the receiver's
+    (state_set.Receiver) counters, the active settings' profile and the state-set rates (Hz;
+    rate_hz None while measuring, comm_rate_hz 0 when unset)."""
+    level, message = level_and_message(health)
+    rx, dec, revision = receiver, receiver.decoder, health.revision
+    values = (
+        ('port', health.port), ('link', 'up' if link.connected else 'down'),
+        ('settings loaded', str(health.loaded)),
+        ('active settings', 'none yet' if revision is None else 'revision %d%s' % (
+            revision, ', profile ' + profile if profile else '')),
+        ('active settings publishers', str(link.publishers)),
+        ('frames per s', str(frames_per_s)),
+        ('s since heartbeat', 'never' if health.heartbeat_age_s is None
+         else '%.1f' % health.heartbeat_age_s),
+        ('dropped bytes', str(dec.dropped_bytes)), ('bad checksums', str(dec.bad_checksums)),
+        ('unknown ids', str(dec.unknown_ids)), ('invalid frames', str(dec.invalid_frames)),
+        ('incomplete joint sets', str(rx.dropped_sets)), ('stray frames', str(rx.stray_frames)),
+        ('implausible frames', str(rx.implausible_frames)),
+        ('refused heartbeats', str(rx.refused_heartbeats)),
+        ('connects', str(link.connects)), ('write errors', str(link.write_errors)),
+        ('state sets per s', 'measuring' if rate_hz is None else '%.1f' % rate_hz),
+        ('comm_rate', '%.1f' % comm_rate_hz if comm_rate_hz else 'unset'),
+        ('callback errors', str(link.callback_errors)))
+    return Diagnostics(level, message, values)

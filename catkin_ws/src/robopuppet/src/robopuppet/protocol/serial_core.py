@@ -4,8 +4,8 @@ Sans-I/O: received bytes, active settings, opmodes and setpoints go in; the outp
 (robopuppet.protocol.state_output), the writes (through the injected write callable) and what
 the node must do (re-open the port, publish diagnostics or an opmode, when to step again) come
 out; the time comes from the injected clock. No rospy, no thread, not thread-safe: serial_X
-(robopuppet.protocol.serial_node) makes every call under its one lock, so all of the state has
-one owner.
+makes every call under one lock (robopuppet.protocol.core_runner), so all of the state has one
+owner.
 """
 import collections
 import reprlib
@@ -20,25 +20,19 @@ IMPLAUSIBLE_LOG_S = 10.0  # an implausible frame is logged at most this often
 RATE_LOG_S = 30.0  # a state rate that disagrees with comm_rate is logged at most this often
 WRITE_LOG_S = 5.0  # a command that cannot be written is logged at most this often
 
-LinkFacts = collections.namedtuple(
-    'LinkFacts', 'connected connects write_errors callback_errors last_error publishers')
-LinkFacts.__doc__ = """What the node knows of its port and subscription when it steps the core:
-connected (the port is open), connects, write_errors, callback_errors (totals), last_error (the
-newest callback error's text), publishers (of active_settings)."""
 Actions = collections.namedtuple('Actions', 'reopen diagnostics next_s opmode')
 Actions.__doc__ = """What step() asks of the node: reopen (the port, the device is silent),
-diagnostics (a Diagnostics to publish, or None), next_s (clock time of the next step at the
-latest), opmode (a mode to publish on <ns>/opmode so that the other nodes know, or None)."""
-Diagnostics = collections.namedtuple('Diagnostics', 'level message values')
-Diagnostics.__doc__ = """One /diagnostics status: level (link_health.OK, WARN or ERROR), message,
-values ((key, text) pairs)."""
+diagnostics (a link_health.Diagnostics to publish, or None), next_s (clock time of the next step
+at the latest), opmode (a mode to publish on <ns>/opmode so that the other nodes know, or
+None)."""
 
 
 class SerialCore:
     """The puppet's link as serial_X sees it: state sets, settings, commands and health.
 
     Args:
-        write(data): put bytes on the port as one write; return False if they did not go out.
+        write(data): put bytes on the port as one write; return False if they did not go out
+            (a write that fails after it returned True is reported with on_write_failed).
         clock(): monotonic time, s.
         log_info(text), log_warn(text): where the node's log lines go.
         port_name: the serial port, for log lines and diagnostics.
@@ -237,12 +231,17 @@ class SerialCore:
             return
         self._hold.record(messages, epoch)
 
+    def on_write_failed(self):
+        """A write that write() took failed at the port: the device may lack what it carried, so
+        everything is loaded again (DeviceSettings.write_failed). Writes nothing."""
+        self._settings.write_failed()
+
     # Timing and health -----------------------------------------------------------------------
     def step(self, link):
         """Do what is due: a settings write, a re-open of a silent port, the diagnostics.
 
         Args:
-            link: the LinkFacts of now.
+            link: the link_health.LinkFacts of now.
         Returns:
             Actions for the node.
         """
@@ -274,30 +273,12 @@ class SerialCore:
         new_errors = link.callback_errors - self._errors_reported
         self._errors_reported = link.callback_errors
         age_s = None if self._heartbeat_s is None else now - self._heartbeat_s
-        revision = self._settings.revision
-        level, message = link_health.level_and_message(link_health.Health(
-            link.connected, self._port, self._silence.silent, self.loaded, revision,
-            link.publishers, age_s, rate, new_errors, link.last_error))
-        rx, dec = self.receiver, self.receiver.decoder
-        frames_per_s, self._frames_before = dec.frames - self._frames_before, dec.frames
-        values = (
-            ('port', self._port), ('link', 'up' if link.connected else 'down'),
-            ('settings loaded', str(self.loaded)),
-            ('active settings', 'none yet' if revision is None else 'revision %d%s' % (
-                revision, ', profile ' + self._profile if self._profile else '')),
-            ('active settings publishers', str(link.publishers)),
-            ('frames per s', str(frames_per_s)),
-            ('s since heartbeat', 'never' if age_s is None else '%.1f' % age_s),
-            ('dropped bytes', str(dec.dropped_bytes)), ('bad checksums', str(dec.bad_checksums)),
-            ('unknown ids', str(dec.unknown_ids)), ('invalid frames', str(dec.invalid_frames)),
-            ('incomplete joint sets', str(rx.dropped_sets)), ('stray frames', str(rx.stray_frames)),
-            ('implausible frames', str(rx.implausible_frames)),
-            ('refused heartbeats', str(rx.refused_heartbeats)),
-            ('connects', str(link.connects)), ('write errors', str(link.write_errors)),
-            ('state sets per s', 'measuring' if rate_hz is None else '%.1f' % rate_hz),
-            ('comm_rate', '%.1f' % self._comm_rate_hz if self._comm_rate_hz else 'unset'),
-            ('callback errors', str(link.callback_errors)))
-        return Diagnostics(level, message, values)
+        frames = self.receiver.decoder.frames
+        frames_per_s, self._frames_before = frames - self._frames_before, frames
+        return link_health.diagnostics(link_health.Health(
+            link.connected, self._port, self._silence.silent, self.loaded, self._settings.revision,
+            link.publishers, age_s, rate, new_errors, link.last_error), link, self.receiver,
+            self._profile, frames_per_s, rate_hz, self._comm_rate_hz)
 
     def _throttled(self, what, period_s, text):
         """Log a warning, but a warning of the same kind at most once per period_s."""

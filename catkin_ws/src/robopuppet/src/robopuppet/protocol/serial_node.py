@@ -4,17 +4,17 @@ import threading
 import time
 
 import rospy
-from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
-from sensor_msgs.msg import JointState
-from std_msgs.msg import Empty, Float32, String, UInt8
+from std_msgs.msg import Float32, String
 
 from robopuppet import interface, params, settings
 from robopuppet.link_recovery import LinkRecovery
 from robopuppet.periodic import Guard
-from robopuppet.protocol import device_commands, state_output as out
-from robopuppet.protocol.serial_core import LinkFacts, SerialCore
+from robopuppet.protocol.core_runner import CoreRunner
+from robopuppet.protocol.link_health import LinkFacts
+from robopuppet.protocol.serial_core import SerialCore
 from robopuppet.protocol.serial_link import SerialLink
-from robopuppet_msgs.msg import ArmSettings, LinkPing
+from robopuppet.protocol.serial_topics import SerialTopics
+from robopuppet_msgs.msg import ArmSettings
 
 OPEN_RETRY_S = 0.5  # pause between attempts to open a missing or lost port
 
@@ -22,9 +22,9 @@ OPEN_RETRY_S = 0.5  # pause between attempts to open a missing or lost port
 class SerialNode:
     """Wire robopuppet.protocol.serial_core.SerialCore to the port, the topics and a worker.
 
-    The port's reader thread and the subscriber threads feed the core, each call under one
-    lock; one worker thread steps it when it has work or a deadline (a settings write, the
-    silence watch, feel mode's setpoint watchdog, 1 Hz diagnostics). See docs/serial.md.
+    The port's reader thread and the subscriber threads feed the core (core_runner.CoreRunner:
+    one lock, the writes paced outside it); one worker thread steps it when it has work or a
+    deadline (a settings write, the silence watch, feel's watchdog, diagnostics; docs/serial.md).
 
     Publishes (in <ns> = /puppet/arm_<side>; see robopuppet.protocol.state_output): heartbeat
         (std_msgs/Empty), joint_states (sensor_msgs/JointState: position rad, effort V,
@@ -38,91 +38,50 @@ class SerialNode:
         settings the device should hold, the feel profile's in feel mode), opmode
         (std_msgs/String: limp; hold; feel = the device's hold, once it holds the feel
         profile, + the setpoint watchdog), joint_J/setpoint (std_msgs/Float32, rad).
-    Echoes: each link_ping (robopuppet_msgs/LinkPing from arm_X on the robot host) goes back at
-        once on link_echo with `echoed` = this node's rospy.Time.now(), both tcp_nodelay. This is
-        the node that stamps joint_states, so arm_X measures the clock that stamps the samples.
-        After a cut, link_recovery connects anew to arm_X's publishers once link_ping is stuck.
+    Echoes: each link_ping (robopuppet_msgs/LinkPing, arm_X's) goes back at once on link_echo
+        with `echoed` = rospy.Time.now(), both tcp_nodelay: arm_X measures the clock that stamps
+        joint_states (serial_topics). After a cut, link_recovery connects anew to arm_X's
+        publishers once link_ping is stuck.
     Parameters: ~arm_side (str, required: L or R); ~port_name (str, default /dev/ttyACM0);
         ~baud_rate (int, default 115200); ~joint_topic_rate (float, default 100.0 Hz: cap of
         the per-joint topics); ~silence_timeout (float, default 3.0 s: no frame for this long
-        re-opens the port, then every second); ~comm_rate (float, default 0: no check: the
-        firmware's compile-time state-set rate, 10 Hz in 2020; 20 % off is reported);
+        re-opens the port, then every second); ~comm_rate (float, default 10 Hz as arm_X's; 0: no
+        check: the firmware's compile-time state-set rate; 20 % off is reported);
         ~feel_setpoint_timeout (float, default 0.5 s: in feel mode, no joint setpoint for this
         long, or no feel gains on the device this long after the opmode, sends limp, logs a
         warning and publishes limp on opmode).
     """
 
     def __init__(self):
-        self._side = rospy.get_param('~arm_side')
-        self._ns = interface.puppet_ns(self._side)
+        side = rospy.get_param('~arm_side')
+        ns = interface.puppet_ns(side) + '/'
         self._name, port = rospy.get_name(), rospy.get_param('~port_name', '/dev/ttyACM0')
-        self._lock = threading.Lock()  # the core: every call under it
         self._wake, self._stopping = threading.Event(), threading.Event()
         self._guard = Guard(self._name, rospy.logerr)
         info, warn = (lambda text: rospy.loginfo('%s: %s', self._name, text),
                       lambda text: rospy.logwarn('%s: %s', self._name, text))
         self._link = SerialLink(port, int(rospy.get_param('~baud_rate', 115200)),
                                 self._on_connect, self._on_data, info, warn, retry_s=OPEN_RETRY_S)
-        active = self._ns + '/' + interface.ACTIVE_SETTINGS
-        self._pacer = device_commands.WritePacer()
-        self._core = SerialCore(
-            self._write, time.monotonic, info, warn, port, active,
+        active = ns + interface.ACTIVE_SETTINGS
+        self._runner = CoreRunner(self._link, lambda write: SerialCore(
+            write, time.monotonic, info, warn, port, active,
             topic_rate_hz=float(rospy.get_param('~joint_topic_rate', 100.0)),
             silence_timeout_s=float(rospy.get_param('~silence_timeout', 3.0)),
-            comm_rate_hz=float(rospy.get_param('~comm_rate', 0.0)),
+            comm_rate_hz=float(rospy.get_param('~comm_rate', interface.DEFAULT_COMM_RATE_HZ)),
             feel_timeout_s=params.positive('~feel_setpoint_timeout',
-                                           rospy.get_param('~feel_setpoint_timeout', 0.5)))
+                                           rospy.get_param('~feel_setpoint_timeout', 0.5))))
+        self._core = self._runner.core
         self._worker = threading.Thread(target=self._work, name='serial worker', daemon=True)
-        self._make_publishers()
+        self._topics = SerialTopics(side, self._name)
         self._active_sub = rospy.Subscriber(active, ArmSettings, self._on_active, queue_size=1)
         # Woken: feel mode's watchdog deadline may come before the worker's planned step.
-        self._subs = [rospy.Subscriber(self._ns + '/' + interface.OPMODE, String, lambda msg:
-                                       self._call(self._core.on_opmode, msg.data, wake=True),
-                                       queue_size=10)]
-        self._subs += [rospy.Subscriber(
-            interface.joint_topic(self._side, j, 'setpoint'), Float32,
-            lambda msg, j: self._call(self._core.on_setpoint, j, msg.data), j, queue_size=10)
-            for j in settings.JOINTS]
-        echo = rospy.Publisher(self._ns + '/' + interface.LINK_ECHO, LinkPing, queue_size=10,
-                               tcp_nodelay=True)
-        self._subs.append(rospy.Subscriber(
-            self._ns + '/' + interface.LINK_PING, LinkPing, lambda msg: echo.publish(LinkPing(
-                seq=msg.seq, sent=msg.sent, echoed=rospy.Time.now())), queue_size=10,
-            tcp_nodelay=True))
-        # After a cut: connect anew to arm_X's publishers once the pings are stuck.
-        self._recovery = LinkRecovery(self._name, [self._ns + '/' + interface.LINK_PING])
-
-    def _make_publishers(self):
-        def pubs(kind, *topics):
-            return [rospy.Publisher(topic, kind, queue_size=50) for topic in topics]
-        side, ns, joints = self._side, self._ns + '/', settings.JOINTS
-        heartbeat, states, button = (pubs(kind, ns + name)[0] for name, kind in (
-            (interface.HEARTBEAT, Empty), (interface.JOINT_STATES, JointState),
-            (interface.USER_BUTTON, UInt8)))
-        angle, voltage, stat = (pubs(kind, *(interface.joint_topic(side, j, name) for j in joints))
-                                for name, kind in (('angle', Float32), ('voltage', Float32),
-                                                   ('enc_stat', String)))
-        grippers = pubs(Float32, *(interface.gripper_topic(side, g)
-                                   for g in range(interface.NUM_GRIPPERS)))
-        self._pub_diag = rospy.Publisher(interface.DIAGNOSTICS, DiagnosticArray, queue_size=10)
-        self._pub_opmode = rospy.Publisher(ns + interface.OPMODE, String, queue_size=10)
-
-        def joint_states(o):
-            msg = JointState(name=settings.JOINT_NAMES, position=o.positions, effort=o.efforts)
-            msg.header.stamp = rospy.Time.now()
-            msg.header.frame_id = o.angle_tag   # the angle settings: see arm.angle_settings
-            states.publish(msg)
-
-        def each(publishers, kind, values):
-            for publisher, value in zip(publishers, values):
-                publisher.publish(kind(value))
-        self._publish = {
-            out.Heartbeat: lambda o: heartbeat.publish(Empty()), out.JointStates: joint_states,
-            out.EncStatus: lambda o: stat[o.joint].publish(String(o.status)),
-            out.JointTopics: lambda o: (each(angle, Float32, o.angles), each(
-                voltage, Float32, o.voltages), each(stat, String, o.statuses)),
-            out.Button: lambda o: button.publish(UInt8(o.button)),
-            out.Grippers: lambda o: each(grippers, Float32, o.readings)}
+        self._subs = [rospy.Subscriber(ns + interface.OPMODE, String, lambda msg: self._call(
+            self._core.on_opmode, msg.data, wake=True), queue_size=10)]
+        self._subs += [rospy.Subscriber(interface.joint_topic(side, j, 'setpoint'), Float32,
+                                        lambda msg, j: self._call(self._core.on_setpoint, j,
+                                                                  msg.data), j, queue_size=10)
+                       for j in settings.JOINTS]
+        self._recovery = LinkRecovery(self._name, [ns + interface.LINK_PING])
 
     def run(self):
         """Run the link and the worker until shutdown."""
@@ -139,29 +98,17 @@ class SerialNode:
         self._link.stop()
 
     def _call(self, method, *args, wake=False):
-        """Call a core method under the lock; wake the worker if asked or if it has work."""
-        with self._lock:
-            result = method(*args)
-            wake = wake or self._core.step_due()
-        if wake:
+        """Call a core method (CoreRunner.call); wake the worker if asked or if it has work."""
+        result, due = self._runner.call(method, *args)
+        if wake or due:
             self._wake.set()
         return result
-
-    def _write(self, data):
-        """Write for the core (under the lock): each write waits as WritePacer says."""
-        delay_s = self._pacer.delay_s(time.monotonic(), len(data))
-        if delay_s > 0.0:
-            time.sleep(delay_s)
-        written = self._link.write(data)
-        self._pacer.wrote(time.monotonic(), len(data))
-        return written
 
     def _on_connect(self):
         self._call(self._core.on_connect, wake=True)
 
     def _on_data(self, data):
-        for output in self._call(self._core.on_data, data):
-            self._publish[type(output)](output)
+        self._topics.publish(self._call(self._core.on_data, data))
 
     def _on_active(self, msg):
         joints = [(j.joint, {n: getattr(j, n) for n in settings.NAMES}) for j in msg.joints]
@@ -177,22 +124,15 @@ class SerialNode:
 
     def _step(self):
         link, guard = self._link, self._guard
-        facts = LinkFacts(link.connected, link.connects, link.write_errors,
-                          guard.errors + link.callback_errors, guard.last_error,
-                          self._active_sub.get_num_connections())
-        with self._lock:
-            actions = self._core.step(facts)
+        actions = self._runner.call(self._core.step, LinkFacts(
+            link.connected, link.connects, link.write_errors, guard.errors + link.callback_errors,
+            guard.last_error, self._active_sub.get_num_connections()))[0]
         if actions.opmode is not None:
-            self._pub_opmode.publish(String(actions.opmode))
+            self._topics.publish_opmode(actions.opmode)
         if actions.reopen:
             link.reopen()
         if actions.diagnostics is not None:
-            level, message, values = actions.diagnostics
-            array = DiagnosticArray(status=[DiagnosticStatus(
-                level=level, name='%s: %s' % (self._name, interface.DIAG_LINK), message=message,
-                hardware_id=self._ns, values=[KeyValue(k, v) for k, v in values])])
-            array.header.stamp = rospy.Time.now()
-            self._pub_diag.publish(array)
+            self._topics.publish_diagnostics(actions.diagnostics)
         return actions.next_s
 
 

@@ -1,16 +1,16 @@
 """The simulated puppet's arm: a 7-joint chain of point masses under gravity, servos and a hand.
 
-Pure: time is an argument, no clock, no I/O, no rospy. The arm is a chain of point masses from
-the seed's Table 2. At zero angles joint 0 turns about the vertical and carries a vertical
-column, and the arm points horizontally forward; rotary joints 1, 3, 5 pitch, twist joints 0, 2,
-4, 6 turn about their link. Each joint is driven by gravity, its servo (stall torque
-proportional to the voltage, following it with a 10 ms lag, back-EMF braking while the drivers
-are enabled), servo friction (Coulomb and viscous), and the operator's hand: a stiff
-spring-damper toward the hand pose that moves at a hand-like speed and is stronger than the
-servos. Until the first hand input the hand holds REST_POSE_RAD. Angles here are mechanical; the
-firmware's encoders (robopuppet.puppet_sim.puppet_model) turn them into reported angles.
-hand_torque_nm observes what the hand exerts (what the nurse feels in feel mode); it changes
-nothing in the motion.
+Pure: time is an argument, no clock, no I/O, no rospy. The arm is a chain of point masses, the 2020
+puppet's assemblies (masses and lengths below). At zero angles joint 0 turns about the vertical and
+carries a vertical column, and the arm points horizontally forward; rotary joints 1, 3, 5 pitch,
+twist joints 0, 2, 4, 6 turn about their link. Each joint is driven by gravity, its servo (stall
+torque proportional to the voltage, following it with a 10 ms lag, back-EMF braking while the
+drivers are enabled), servo friction (Coulomb and viscous), and the operator's hand: a stiff
+spring-damper toward the hand pose that moves at a hand-like speed and is stronger than the servos.
+Until the first hand input the hand holds REST_POSE_RAD. Angles here are mechanical; the firmware's
+encoders (robopuppet.puppet_sim.puppet_model) turn them into reported angles. hand_torque_nm
+observes what the hand exerts (what the nurse feels in feel mode); it changes nothing in the
+motion.
 
 The hand grips a joint for HAND_GRIP_S after each input for it (the operator moving it, or
 holding on: a test that keeps sending the pose); then it rests on the puppet. A resting hand
@@ -37,7 +37,7 @@ GRAVITY_MPS2 = 9.81
 REST_POSE_RAD = (0.3, 0.5, -0.25, 0.9, 0.2, 0.4, -0.15)
 REST_GRIPPERS = (0.0, 0.0, 0.0, 1.0)  # gripper 3 is the end-piece button: ~1 when released
 
-# Seed Table 2 assemblies: (mass kg, length m). Link J is the assembly that joint J moves.
+# The 2020 puppet's assemblies: (mass kg, length m). Link J is the assembly that joint J moves.
 _TWIST, _ROTARY, _SMALL_TWIST, _GRIPPER = (0.16, 0.0957), (0.14, 0.0475), (0.11, 0.083), \
     (0.026, 0.065)
 LINKS = (_TWIST, _ROTARY, _TWIST, _ROTARY, _SMALL_TWIST, _ROTARY, _GRIPPER)

@@ -7,13 +7,10 @@ loop that reads the encoders, clamps each angle to [angle_min, angle_max], limit
 [velocity_min, velocity_max] and, in hold, runs one PID per joint on the wrapped error between
 the setpoint and the encoder angle, clamped to [voltage_min, voltage_max].
 
-Encoders: reported angle = sign_angle x wrap(raw - stored_home), where stored_home is
-home_angle x the sign_angle in force when the home frame arrived (so a host must send the sign
-first). Joints 1, 3, 5 are absolute (hall) encoders whose raw angle is the mechanical angle; one
-missing at power-on reports Disconnected and angle 0. Joints 0, 2, 4, 6 are quadrature encoders
-whose raw angle is counted from power-on (home applies to it all the same) and report
-Uncalibrated until they first pass their index mark at mechanical angle 0 (any multiple of
-2 pi), which zeroes the count; then Working, with raw = the mechanical angle.
+Encoders (puppet_encoders): reported angle = sign_angle x wrap(raw - stored_home), where
+stored_home is home_angle x the sign_angle in force when the home frame arrived (so a host must
+send the sign first); a disconnected hall encoder reports angle 0. Home applies to an
+uncalibrated quadrature encoder's count from power-on all the same.
 
 Opmode: limp zeroes every setpoint and voltage; hold resets the PIDs and keeps the setpoints (0
 rad after power-on or limp). The settings start at the firmware's power-on values
@@ -30,15 +27,11 @@ from robopuppet import interface, settings
 from robopuppet.protocol import codec
 from robopuppet.puppet_sim.puppet_arm import (NOMINAL_VOLTAGE_V, REST_GRIPPERS, REST_POSE_RAD,
                                               ArmPhysics, wrap)
+from robopuppet.puppet_sim.puppet_encoders import Encoders
 
 CONTROL_RATE_HZ = 50.0
 HEARTBEAT_RATE_HZ = 1.0
 PHYSICS_STEPS_PER_TICK = 10
-HALL_JOINTS = (1, 3, 5)
-QUAD_JOINTS = (0, 2, 4, 6)
-HALL_RAD_PER_COUNT = 2.0 * math.pi / 2 ** 14   # AS5048B, 14 bits
-QUAD_RAD_PER_COUNT = 2.0 * math.pi / 2 ** 13   # 8192 counts per revolution
-INDEX_HALF_WIDTH_RAD = 0.005  # the index pulse is about 0.6 degrees wide
 CATCH_UP_S = 0.5  # a late advance() runs at most this much of the missed time
 TIE_S = 1e-9  # times this close are one time (sums of periods drift from the multiples)
 CONTROL_LOG_TICKS = 500  # ControlTicks kept for take_control_ticks() (10 s at 50 Hz)
@@ -74,19 +67,13 @@ class PuppetFirmware:
     def __init__(self, state_rate_hz=10.0, pose_rad=REST_POSE_RAD, hall_disconnected=()):
         if not state_rate_hz > 0.0:
             raise ValueError('state rate must be positive, got %r' % (state_rate_hz,))
-        missing = set(hall_disconnected)
-        if not missing <= set(HALL_JOINTS):
-            raise ValueError('only hall-encoder joints %s can be disconnected, got %s'
-                             % (list(HALL_JOINTS), sorted(missing)))
         n = settings.NUM_JOINTS
         self.state_period_s = 1.0 / state_rate_hz
+        self.encoders = Encoders(pose_rad, hall_disconnected)
         self.arm = ArmPhysics(pose_rad)
         self.config = {j: dict(POWER_ON_SETTINGS) for j in settings.JOINTS}  # last value per id
         self.stored_home_rad = [0.0] * n  # home_angle x the sign_angle when it arrived
         self.opmode = codec.LIMP
-        self.hall_working = [j in HALL_JOINTS and j not in missing for j in settings.JOINTS]
-        self.calibrated = [j in HALL_JOINTS for j in settings.JOINTS]  # quad: after the index
-        self._count_origin_rad = list(pose_rad)  # quadrature counts are relative to this
         self.encoder_rad = [0.0] * n   # sign_angle x encoder angle (what the PID uses)
         self.angle_rad = [0.0] * n     # after the angle filter (what the host is sent)
         self._filter_started = False
@@ -216,26 +203,17 @@ class PuppetFirmware:
 
     def state_messages(self):
         """Return one state set: seven joint states, four grippers, then the buttons."""
-        out = [codec.JointState(j, self._status(j), self.angle_rad[j], self.voltage_v[j])
+        out = [codec.JointState(j, self.encoders.status(j), self.angle_rad[j], self.voltage_v[j])
                for j in settings.JOINTS]
         out.extend(codec.Gripper(g, r) for g, r in enumerate(self.grippers))
         out.append(codec.Buttons(self.button))
         return out
 
-    def _status(self, joint):
-        if joint in HALL_JOINTS:
-            return codec.WORKING if self.hall_working[joint] else codec.DISCONNECTED
-        return codec.WORKING if self.calibrated[joint] else codec.UNCALIBRATED
-
     def _encoder(self, joint):
         """Return sign_angle x the encoder's angle: wrap(raw - stored home), as the firmware."""
-        mechanical = self.arm.angle_rad[joint]
-        if joint in HALL_JOINTS:
-            if not self.hall_working[joint]:
-                return self.config[joint]['sign_angle'] * 0.0
-            raw = _counts(mechanical % (2.0 * math.pi), HALL_RAD_PER_COUNT)
-        else:  # counted from power-on, or from the index mark once it has been passed
-            raw = _counts(mechanical - self._count_origin_rad[joint], QUAD_RAD_PER_COUNT)
+        raw = self.encoders.raw_rad(joint, self.arm.angle_rad[joint])
+        if raw is None:
+            return self.config[joint]['sign_angle'] * 0.0
         return self.config[joint]['sign_angle'] * wrap(raw - self.stored_home_rad[joint])
 
     def _control_tick(self, time_s, dt_s):
@@ -264,11 +242,7 @@ class PuppetFirmware:
         self.arm.update_hand(dt_s, hold)
         sub_dt = dt_s / PHYSICS_STEPS_PER_TICK
         for _ in range(PHYSICS_STEPS_PER_TICK):
-            before = self.arm.step(sub_dt, applied, hold)
-            for joint in QUAD_JOINTS:
-                if _passes_index(before[joint], self.arm.angle_rad[joint]):
-                    self.calibrated[joint] = True
-                    self._count_origin_rad[joint] = 0.0  # the index pulse zeroes the count
+            self.encoders.move(self.arm.step(sub_dt, applied, hold), self.arm.angle_rad)
 
     def _pid(self, joint, dt_s):
         """Return the PID voltage of a joint on the encoder angle, clamped (anti-windup)."""
@@ -288,19 +262,6 @@ class PuppetFirmware:
 def _clamp(value, low, high):
     """Clamp as the firmware's CppUtil does: NaN passes through."""
     return low if value < low else high if value > high else value
-
-
-def _counts(angle_rad, rad_per_count):
-    """Return angle_rad as the encoder counts it (whole counts)."""
-    return round(angle_rad / rad_per_count) * rad_per_count
-
-
-def _passes_index(before_rad, after_rad):
-    """Return True if a joint moving from before_rad to after_rad meets its index mark."""
-    period = 2.0 * math.pi
-    if math.floor(before_rad / period) != math.floor(after_rad / period):
-        return True
-    return abs(wrap(after_rad)) <= INDEX_HALF_WIDTH_RAD
 
 
 def _not_before(due_s, period_s, earliest_s):

@@ -6,23 +6,21 @@ import rosgraph
 import rospkg
 import rospy
 from sensor_msgs.msg import JointState
-from std_msgs.msg import (Float32MultiArray, Header, MultiArrayDimension, MultiArrayLayout, String,
-                          UInt8, UInt8MultiArray)
+from std_msgs.msg import Float32MultiArray, UInt8, UInt8MultiArray
 
-from robopuppet import interface, settings
+from robopuppet import interface
 from robopuppet.periodic import Guard
-from robopuppet.puppet_sim.puppet_device import CONFIG_DIMS, PuppetDevice, check_params
+from robopuppet.puppet_sim.puppet_device import PuppetDevice, check_params
+from robopuppet.puppet_sim.puppet_publishers import StepPublishers
 from robopuppet.puppet_sim.pty_port import PtyPort
-
-# The simulated puppet's test topics, relative to interface.sim_ns(side).
 
 
 class PuppetSimNode:
     """Behave byte for byte like the puppet's microcontroller (the 2020 firmware) on a pty.
 
     The serial node opens ~port_link like a USB serial port. The device is puppet_device (over
-    puppet_model, puppet_arm and puppet_wire), the pty pty_port; this adapter moves bytes and
-    operator input between them and ROS.
+    puppet_model, puppet_arm and puppet_wire), the pty pty_port, the publishers
+    puppet_publishers; this adapter moves bytes and operator input between them and ROS.
 
     Subscribes (in <sim> = /puppet_sim/arm_<side>):
         hand (sensor_msgs/JointState): joint_0..joint_6 mechanical angles rad where the
@@ -75,14 +73,7 @@ class PuppetSimNode:
         self._device = PuppetDevice(rospy.get_param('~state_rate', 10.0), missing, packet_size)
         self._guard = Guard(rospy.get_name(), rospy.logerr)
         self._lock = threading.Lock()
-        self._pub_config = rospy.Publisher(self._topic(interface.SIM_DEVICE_CONFIG),
-                                           Float32MultiArray, queue_size=1, latch=True)
-        self._pub_opmode = rospy.Publisher(self._topic(interface.SIM_DEVICE_OPMODE), String,
-                                           queue_size=1, latch=True)
-        self._pub_control = rospy.Publisher(self._topic(interface.SIM_CONTROL), JointState,
-                                            queue_size=100)
-        self._pub_hand_torque = rospy.Publisher(self._topic(interface.SIM_HAND_TORQUE),
-                                                JointState, queue_size=10)
+        self._publishers = StepPublishers(self._ns)
         device = self._device
         self._subs = [
             self._subscribe(interface.SIM_HAND, JointState, device.set_hand,
@@ -94,12 +85,9 @@ class PuppetSimNode:
                             lambda m: (bytes(m.data),))]
         rospy.loginfo('%s: %s', self._ns, device.summary())
 
-    def _topic(self, name):
-        return '%s/%s' % (self._ns, name)
-
     def _subscribe(self, name, msg_type, action, fields):
         """Subscribe: each message runs action(*fields(msg)); a ValueError is logged."""
-        topic = self._topic(name)
+        topic = '%s/%s' % (self._ns, name)
 
         def on_msg(msg):
             with self._lock:
@@ -129,19 +117,7 @@ class PuppetSimNode:
         with self._lock:
             self._device.receive(chunk, before)
             step = self._device.advance(time.monotonic(), self._pty.write_some)
-        if step.config is not None:
-            self._pub_config.publish(Float32MultiArray(MultiArrayLayout(
-                [MultiArrayDimension(*dim) for dim in CONFIG_DIMS], 0), list(step.config)))
-        if step.opmode is not None:
-            self._pub_opmode.publish(String(step.opmode))
-        for tick in step.ticks:
-            self._pub_control.publish(JointState(
-                Header(stamp=rospy.Time.now()), list(settings.JOINT_NAMES),
-                list(tick.setpoint_rad), list(tick.angle_rad), list(tick.voltage_v)))
-        if step.hand_torque is not None:
-            self._pub_hand_torque.publish(JointState(
-                header=Header(stamp=rospy.Time.now()), name=list(settings.JOINT_NAMES),
-                effort=list(step.hand_torque)))
+        self._publishers.publish(step)
         if step.ignored is not None:
             rospy.logwarn_throttle(5.0, '%s: %d frames for a joint out of range 0-6 ignored (the '
                                    'real firmware would write past its arrays)', self._pty.link,

@@ -11,39 +11,31 @@ so that its capsules hold it at any gripper opening.
 
 The pose of every capsule comes from the same joint origins and axes as
 baxter_description.Description.transform (and robot_state_publisher), batched over many
-configurations with numpy. Pure: XML and numpy, no ROS.
+configurations with numpy. Pure: numpy, no ROS.
 """
-import xml.etree.ElementTree as ET
-
 import numpy as np
 
 from robopuppet import baxter_description as bd
+from robopuppet.world import shapes
 
 
 class CapsuleError(ValueError):
     """The robot description has no usable shapes for an arm link."""
 
 
-def _shape_capsule(geometry, pose):
-    """Return ((end 1, end 2) in the link frame, radius) of a capsule holding a geometry, or None
-    for a mesh."""
-    for shape in geometry:
-        if shape.tag == 'cylinder':
-            radius, half = float(shape.get('radius')), float(shape.get('length')) / 2.0
-            axis = pose[:3, 2] * half
-        elif shape.tag == 'box':
-            size = np.array(bd.floats(shape.get('size'), '', 3))
-            longest = int(np.argmax(size))
-            radius = float(np.hypot(*np.delete(size, longest))) / 2.0
-            axis = pose[:3, longest] * size[longest] / 2.0
-        elif shape.tag == 'sphere':
-            radius, axis = float(shape.get('radius')), np.zeros(3)
-        elif shape.tag == 'mesh':
-            return None
-        else:
-            raise ValueError('unknown geometry <%s>' % shape.tag)
-        return (pose[:3, 3] - axis, pose[:3, 3] + axis), radius
-    raise ValueError('empty <geometry>')
+def _capsule(shape):
+    """Return ((end 1, end 2) in the link frame, radius) of the capsule holding a Shape."""
+    pose = shapes.shape_pose(shape)
+    if shape.type == 'cylinder':
+        radius, axis = shape.radius, pose[:3, 2] * shape.length / 2.0
+    elif shape.type == 'box':
+        size = np.array(shape.size)
+        longest = int(np.argmax(size))
+        radius = float(np.hypot(*np.delete(size, longest))) / 2.0
+        axis = pose[:3, longest] * size[longest] / 2.0
+    else:
+        radius, axis = shape.radius, np.zeros(3)
+    return (pose[:3, 3] - axis, pose[:3, 3] + axis), radius
 
 
 def link_capsules(urdf_text):
@@ -54,28 +46,10 @@ def link_capsules(urdf_text):
         CapsuleError: the text is not XML, or a shape is malformed.
     """
     try:
-        root = ET.fromstring(urdf_text)
-    except ET.ParseError as error:
-        raise CapsuleError('robot description is not XML: %s' % error) from error
-    result = {}
-    for link in root.findall('link'):
-        name = link.get('name')
-        try:
-            for tag in ('collision', 'visual'):
-                capsules = []
-                for element in link.findall(tag):
-                    geometry = element.find('geometry')
-                    if geometry is None:
-                        raise ValueError('<%s> without <geometry>' % tag)
-                    capsule = _shape_capsule(geometry, bd.origin_matrix(element))
-                    if capsule is not None:
-                        capsules.append(capsule)
-                if capsules:
-                    result[name] = capsules
-                    break
-        except (TypeError, ValueError) as error:
-            raise CapsuleError('link %r: %s' % (name, error)) from None
-    return result
+        found = shapes.link_shapes(urdf_text, ('collision', 'visual'))
+    except shapes.ShapeFileError as error:
+        raise CapsuleError(str(error)) from None
+    return {link: [_capsule(shape) for shape in parts] for link, parts in found.items()}
 
 
 class ArmCapsules:

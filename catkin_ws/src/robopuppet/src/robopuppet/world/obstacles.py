@@ -6,7 +6,7 @@ no other file is chosen. Pure: paths and YAML in, checked shapes out; no ROS.
 """
 import os
 
-from robopuppet.world import zones
+from robopuppet.world import shapes, zones
 
 DEFAULT_FILE = ('config', 'obstacles.yaml')   # inside the robopuppet package
 
@@ -40,11 +40,7 @@ def load_obstacles(path):
     Raises:
         ObstacleFileError: unreadable, not YAML, or an entry not in the format (named).
     """
-    try:
-        with open(path) as stream:
-            text = stream.read()
-    except OSError as error:
-        raise ObstacleFileError('cannot read obstacle file %s: %s' % (path, error)) from None
+    text = shapes.read_text(path, ObstacleFileError, 'obstacle file')
     try:
         return zones.parse_zones(text, path)
     except zones.ZoneFileError as error:

@@ -5,8 +5,9 @@ room camera's pose, read by cameras.scene), the keep-out zones (config/zones.yam
 and the stand-in's obstacles: a `shapes` list, each shape with a name, a type and URDF's geometry
 fields (box `size` [x, y, z] m centred; cylinder `radius`, `length` m along its own z; sphere
 `radius` m), its centre `xyz` (m) and `rpy` (rad, URDF's fixed-axis roll, pitch, yaw) in the base
-frame, and an optional RGB `colour` (0..1). docs/cameras.md describes it. Pure: YAML documents
-in, checked tuples out.
+frame, and an optional RGB `colour` (0..1). docs/cameras.md describes it. The primitive shapes of
+a URDF's links are read into the same Shapes (link_shapes): the cameras draw them, the arm's
+capsules hold them. Pure: YAML and URDF text in, checked tuples out.
 """
 import collections
 import math
@@ -121,6 +122,19 @@ def load_document(text, keys, where):
     return document
 
 
+def read_text(path, error=ShapeFileError, kind=''):
+    """Return the text of a shape file.
+
+    Raises:
+        error: the file cannot be read ('cannot read <kind> <path>: why').
+    """
+    try:
+        with open(path) as stream:
+            return stream.read()
+    except OSError as reason:
+        raise error('cannot read %s%s: %s' % (kind + ' ' if kind else '', path, reason)) from None
+
+
 def check_frame(document, where):
     """Raise ShapeFileError unless a document's `frame` (default base) is Baxter's base."""
     if document.get('frame', bd.BASE_FRAME) != bd.BASE_FRAME:
@@ -134,3 +148,67 @@ def shape_pose(shape):
     pose[:3, :3] = bd.rpy_matrix(*shape.rpy)
     pose[:3, 3] = shape.xyz
     return pose
+
+
+def link_shapes(urdf_text, tags):
+    """Return {link: [Shape in the link's frame]} of a URDF's boxes, cylinders and spheres.
+
+    Each link's shapes are those of the first of `tags` ('collision', 'visual') under which it has
+    any; mesh files are left out. A Shape is named after its link and has its material's colour
+    (None without one).
+
+    Raises:
+        ShapeFileError: the text is not XML, or a shape is malformed (naming its link).
+    """
+    root = bd.parse_urdf(urdf_text, ShapeFileError)
+    named = {}
+    try:
+        for material in root.findall('material'):
+            if material.find('color') is not None:
+                named[material.get('name')] = _rgb(material)
+    except (TypeError, ValueError) as error:
+        raise ShapeFileError('material %r: %s' % (material.get('name'), error)) from None
+    result = {}
+    for link in root.findall('link'):
+        name = link.get('name')
+        try:
+            for tag in tags:
+                found = [_urdf_shape(name, e, named) for e in link.findall(tag)]
+                found = [shape for shape in found if shape is not None]
+                if found:
+                    result[name] = found
+                    break
+        except (TypeError, ValueError) as error:
+            raise ShapeFileError('link %r: %s' % (name, error)) from None
+    return result
+
+
+def _rgb(material):
+    return tuple(bd.floats(material.find('color').get('rgba'), '', 4)[:3])
+
+
+def _urdf_shape(link, element, named):
+    """Return the Shape of a URDF <visual> or <collision>, or None for a mesh file."""
+    geometry = element.find('geometry')
+    if geometry is None:
+        raise ValueError('<%s> without <geometry>' % element.tag)
+    if not len(geometry):
+        raise ValueError('empty <geometry>')
+    kind = geometry[0].tag
+    if kind == 'mesh':
+        return None
+    if kind not in TYPES:
+        raise ValueError('unknown geometry <%s>' % kind)
+    fields = {'size': None, 'radius': None, 'length': None}
+    for key in TYPES[kind]:
+        text = geometry[0].get(key)
+        fields[key] = tuple(bd.floats(text, '', 3)) if key == 'size' else float(text)
+    origin = element.find('origin')
+    xyz, rpy = (tuple(bd.floats(None if origin is None else origin.get(key), '0 0 0', 3))
+                for key in ('xyz', 'rpy'))
+    material = element.find('material')
+    colour = None
+    if material is not None:
+        colour = _rgb(material) if material.find('color') is not None else \
+            named.get(material.get('name'))
+    return Shape(link, kind, fields['size'], fields['radius'], fields['length'], xyz, rpy, colour)

@@ -1,19 +1,12 @@
 """Keep-out zones: the arm commands that would take any part of a Baxter arm into one are cut.
 
-A zone file (config/zones.yaml; docs/zones.md) is a shape file (world.shapes): `frame: base`
-and a `shapes` list of named boxes, spheres and cylinders in Baxter's base frame. Clearances are
-of the arm's capsules (world.arm_capsules) from every zone (world.clearance); ArmCapsules.reach
+A zone file (config/zones.yaml; docs/zones.md) is a shape file (world.shapes). Clearances are of
+the arm's capsules (world.arm_capsules) from every zone (world.clearance); ArmCapsules.reach
 bounds how far a capsule moves for a joint motion, which is what makes every proof here hold
-between the configurations it checks.
-
-ZoneGuard.limit_box (arm_X, the replay) proves a whole box of joint angles clear: where Baxter
-can be until a command takes effect, stretched to the command (arm.arm_reach; docs/zones.md,
-"The guarantee"). ZoneGuard.limit (and slide, the stand-in's contact) proves the straight
-motion from one configuration to the next: a configuration checked at s on q(s) = q_from +
-s (q_to - q_from) covers the interval s +- w/2 when each capsule's clearance exceeds how far it
-can move over w/2; intervals not proven are split until their motion bound is below
-RESOLUTION_M, and the first one still not proven ends the motion at its start. Either stops
-the arm MARGIN_M outside a zone, not at it.
+between the configurations it checks. ZoneGuard.limit_box (arm_X, the replay) proves a whole box
+of joint angles clear (docs/zones.md, "The guarantee"), ZoneGuard.limit (and slide, the
+stand-in's contact) the straight motion from one configuration to the next (_sweep); either
+stops the arm MARGIN_M outside a zone, not at it.
 
 At a zone already (within NEAR_M, as after a cut) or inside it (a zone file can change under
 the arm), a (capsule, zone) pair may not end a command nearer (deeper) than it started, and on
@@ -65,20 +58,14 @@ def parse_zones(text, where='the zone file'):
 
 def load_zones(path):
     """Return the Shapes of a zone file; raise ZoneFileError naming it and the entry."""
-    try:
-        with open(path) as stream:
-            text = stream.read()
-    except OSError as error:
-        raise ZoneFileError('cannot read zone file %s: %s' % (path, error)) from None
-    return parse_zones(text, path)
+    return parse_zones(shapes.read_text(path, ZoneFileError, 'zone file'), path)
 
 
 def floors(start):
     """Return (near, floor), (Z, C) each, for (capsule, zone) pairs with clearances `start`
     (m) where a motion starts: near, the pair is at (or in) a zone already (below NEAR_M);
     floor, the clearance the pair must keep on the motion: MARGIN_M, or for a near pair its
-    start less SLACK_M but never below 0 when it starts outside (never into a zone from
-    outside)."""
+    start less SLACK_M, but never below 0 when it starts outside."""
     near = start < NEAR_M
     floor = np.where(near, start - SLACK_M, MARGIN_M)
     floor[(start > 0.0) & (floor < 0.0)] = 0.0

@@ -7,6 +7,7 @@ import pytest
 from robopuppet import settings
 from robopuppet.config import config_store
 from robopuppet.gui import settings_form
+from robopuppet.protocol.device_settings import DeviceSettings
 
 CONFIG_DIR = os.path.join(os.path.dirname(__file__), '..', '..', 'config')
 
@@ -79,3 +80,22 @@ def test_the_gui_refuses_what_the_config_node_refuses():
     assert set(fields) == {'voltage_max', 'pid_kp'}
     assert 'outside its bound' in fields['voltage_max'][0]
     assert 'outside its bound' in fields['pid_kp'][0]
+
+
+
+@pytest.mark.parametrize('changes, why', [
+    ({'angle_min': 1.5, 'angle_max': 0.5}, 'angle_min = 1.5: above angle_max = 0.5'),
+    ({'velocity_min': 0.5}, 'velocity_min..velocity_max = 0.5..6.283: the range must hold 0 ('),
+])
+def test_a_broken_range_reads_the_same_from_the_config_node_the_file_and_the_serial_node(
+        changes, why):
+    stored = config_store.defaults()
+    with pytest.raises(config_store.InvalidSetting) as error:
+        config_store.check_request(stored[2], 2, list(changes), list(changes.values()))
+    assert str(error.value).startswith('joint 2 ' + why)
+    broken = {**stored, 2: dict(stored[2], **changes)}
+    _, problems = config_store.parse(config_store.render('', broken))
+    assert len(problems) == 1 and problems[0].startswith('[joint_2] ' + why)
+    warnings = []
+    DeviceSettings(None, None, None, warnings.append, 'active').on_stored(1, broken.items())
+    assert ('joint 2 ' + why) in warnings[0]

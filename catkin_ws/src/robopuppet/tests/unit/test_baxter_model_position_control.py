@@ -7,8 +7,9 @@ import random
 import pytest
 
 from robopuppet import baxter_description as bd
+from robopuppet.baxter_sim.baxter_joint_command import POSITION_MODE, RAW_POSITION_MODE
 from robopuppet.baxter_sim.baxter_model import (DEFAULT_COMMAND_TIMEOUT_S, DEFAULT_SPEED_RATIO,
-                                                POSITION_MODE, RAW_POSITION_MODE, BaxterModel)
+                                                BaxterModel)
 from robopuppet.baxter_sim.baxter_refusals import CommandError
 
 DESC = bd.load()

@@ -1,4 +1,4 @@
-"""Tests of what arm_X's node turns its messages into (robopuppet.arm.readings, pure)."""
+"""robopuppet.arm.readings: the puppet's and Baxter's joints from message fields, by name."""
 import math
 
 import pytest

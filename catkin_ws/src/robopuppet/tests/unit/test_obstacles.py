@@ -9,7 +9,7 @@ import rospkg
 import rospy
 
 from robopuppet import baxter_description as bd
-from robopuppet.baxter_sim import baxter_sim_node
+from robopuppet.baxter_sim import baxter_params
 from robopuppet.world import obstacles
 
 PACKAGE = os.path.join(os.path.dirname(__file__), '..', '..')
@@ -80,19 +80,19 @@ def test_an_unusable_file_is_logged_and_the_node_runs_without_obstacles(node_par
                                                                        words):
     params, logs = node_params
     params['~obstacles_file'] = value
-    assert baxter_sim_node._contacts(DESC, URDF) == {}
+    assert baxter_params.contacts(DESC, URDF) == {}
     assert len(logs) == 1 and logs[0][0] == 'logerr'
     assert 'running without obstacles' in logs[0][1] and words in logs[0][1]
 
 
 def test_the_node_takes_the_default_file_unless_told_none(node_params):
     params, logs = node_params
-    contacts = baxter_sim_node._contacts(DESC, URDF)
+    contacts = baxter_params.contacts(DESC, URDF)
     assert set(contacts) == {'left', 'right'}
     assert logs[-1][0] == 'loginfo' and 'mattress' in logs[-1][1]
     for side, contact in contacts.items():     # the neutral pose is well clear of the bed
         neutral = [bd.neutral_pose(side)[n] for n in bd.arm_joint_names(side)]
         assert contact.guard.clearance(neutral).min() > 0.1
     params['~obstacles_file'] = ''
-    assert baxter_sim_node._contacts(DESC, URDF) == {}
+    assert baxter_params.contacts(DESC, URDF) == {}
     assert logs[-1] == ('loginfo', 'baxter_sim: no obstacles')

@@ -1,12 +1,11 @@
 """The "Link to the robot room" box: the pure decision (link_view) and the widget (pytest-qt)."""
 import os
-import types
 
 os.environ.setdefault('QT_QPA_PLATFORM', 'offscreen')
 
 import pytest  # noqa: E402
 
-from robopuppet.gui import link_box, link_view, look, main_tab, puppet_client, state  # noqa: E402
+from robopuppet.gui import link_box, link_view, look, main_tab, state  # noqa: E402
 from robopuppet.gui.link_view import ERROR, NETWORK, OK, OPERATOR, ROBOT, UNHEARD, WARN  # noqa
 from robopuppet.gui.window import Window  # noqa: E402
 from robopuppet_msgs.msg import LinkState  # noqa: E402
@@ -163,16 +162,6 @@ def test_long_statuses_are_cut_at_a_word_within_the_limit(text, shown):
                                            (12.3, '12 s'), (-1.0, '—'), (float('nan'), '—')])
 def test_durations_read_naturally(seconds, text):
     assert link_view.duration(seconds) == text
-
-
-def test_the_client_keeps_link_state_with_its_receive_time():
-    arm = state.ArmState()
-    fake = types.SimpleNamespace(state=arm, _clock=lambda: 7.0)
-    msg = LinkState(rtt=0.25, clock_offset=3.0, clock_known=True, sample_age=0.125,
-                    max_sample_age=0.5, loss=0.5, level=1, fault=LinkState.NETWORK, detail='slow')
-    puppet_client.PuppetClient._on_link_state(fake, msg)
-    assert arm.snapshot().robot_link == state.RobotLink(0.25, 0.125, 0.5, True, 0.5, 1,
-                                                        'network', 'slow', 7.0)
 
 
 # --- the widget, on the main tab --------------------------------------------------------------

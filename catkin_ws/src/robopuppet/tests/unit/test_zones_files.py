@@ -1,4 +1,4 @@
-"""Zone files (config/zones.yaml, robopuppet.world.zones): the shipped zones and refusals."""
+"""Shape files (world.shapes, world.zones): the shipped zones, URDF link shapes, refusals."""
 import os
 
 import numpy as np
@@ -58,3 +58,46 @@ def test_a_bad_zone_file_is_refused_naming_file_and_entry(tmp_path, text, words)
 def test_a_missing_zone_file_is_refused_naming_it(tmp_path):
     with pytest.raises(zones.ZoneFileError, match='cannot read zone file .*none.yaml'):
         zones.load_zones(str(tmp_path / 'none.yaml'))
+
+
+LINKS_URDF = """<robot name="r">
+  <material name="grey"><color rgba="0.5 0.5 0.5 1"/></material>
+  <link name="both">
+    <collision><geometry><cylinder radius="0.1" length="0.4"/></geometry></collision>
+    <visual><origin xyz="0 0 0.2" rpy="0 0 1.5"/><geometry><box size="1 2 3"/></geometry>
+      <material name="grey"/></visual>
+  </link>
+  <link name="seen">
+    <visual><geometry><mesh filename="package://r/a.dae"/></geometry></visual>
+    <visual><origin xyz="1 2 3"/><geometry><sphere radius="0.2"/></geometry>
+      <material name="red"><color rgba="1 0 0 1"/></material></visual>
+  </link>
+  <link name="mesh_only">
+    <visual><geometry><mesh filename="package://r/b.dae"/></geometry></visual>
+  </link>
+</robot>"""
+
+
+def test_a_urdfs_links_become_shapes_of_the_first_tag_they_have():
+    first = shapes.link_shapes(LINKS_URDF, ('collision', 'visual'))
+    assert first == {
+        'both': [shapes.Shape('both', 'cylinder', None, 0.1, 0.4, (0.0,) * 3, (0.0,) * 3, None)],
+        'seen': [shapes.Shape('seen', 'sphere', None, 0.2, None, (1.0, 2.0, 3.0), (0.0,) * 3,
+                              (1.0, 0.0, 0.0))]}
+    visual = shapes.link_shapes(LINKS_URDF, ('visual',))
+    assert visual['both'] == [shapes.Shape('both', 'box', (1.0, 2.0, 3.0), None, None,
+                                           (0.0, 0.0, 0.2), (0.0, 0.0, 1.5), (0.5, 0.5, 0.5))]
+
+
+@pytest.mark.parametrize('text, words', [
+    ('<robot', 'not XML'),
+    ('<robot><link name="l"><visual/></link></robot>', "link 'l': <visual> without <geometry>"),
+    ('<robot><link name="l"><visual><geometry/></visual></link></robot>', 'empty <geometry>'),
+    ('<robot><link name="l"><visual><geometry><cone/></geometry></visual></link></robot>',
+     'unknown geometry <cone>'),
+    ('<robot><link name="l"><visual><geometry><box size="1 2"/></geometry></visual></link>'
+     '</robot>', "link 'l': expected 3 numbers"),
+])
+def test_a_bad_urdf_shape_is_refused_naming_its_link(text, words):
+    with pytest.raises(shapes.ShapeFileError, match=words):
+        shapes.link_shapes(text, ('visual',))

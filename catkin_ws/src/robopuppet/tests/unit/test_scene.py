@@ -7,6 +7,7 @@ import pytest
 
 from robopuppet import baxter_description as bd
 from robopuppet.cameras import robot_shapes, scene
+from robopuppet.world.shapes import ShapeFileError
 
 WORLD_FILE = os.path.join(os.path.dirname(bd.URDF_PATH), '..', 'config', 'world.yaml')
 
@@ -67,13 +68,25 @@ def test_shapes_follow_urdf_geometry():
     ('- a list', 'must be a mapping'),
 ])
 def test_a_malformed_file_is_refused_naming_what_is_wrong(text, words):
-    with pytest.raises(scene.SceneError, match=words):
+    with pytest.raises(ShapeFileError, match=words):
         scene.parse_world(text)
 
 
 def test_a_missing_file_is_refused_naming_it(tmp_path):
-    with pytest.raises(scene.SceneError, match='cannot read .*nothing.yaml'):
+    with pytest.raises(ShapeFileError, match='cannot read .*nothing.yaml'):
         scene.load_world(str(tmp_path / 'nothing.yaml'))
+
+
+def test_an_optional_shape_file_may_be_missing_but_not_malformed(tmp_path):
+    assert scene.optional_shapes(None) == ([], '')
+    assert scene.optional_shapes(str(tmp_path / 'none.yaml')) == ([], '')
+    bad = tmp_path / 'bad.yaml'
+    bad.write_text('shapes: [')
+    found, problem = scene.optional_shapes(str(bad))
+    assert found == [] and 'not YAML' in problem
+    good = tmp_path / 'good.yaml'
+    good.write_text('shapes: [{name: a, type: sphere, radius: 1, xyz: [0, 0, 0]}]')
+    assert [s.name for s in scene.optional_shapes(str(good))[0]] == ['a']
 
 
 def test_look_at_gives_an_upright_optical_frame():
@@ -113,5 +126,5 @@ def test_the_posed_robot_mesh_moves_its_links_with_the_joints():
 def test_a_visual_with_a_malformed_geometry_is_refused_naming_its_link():
     text = ('<robot name="r"><link name="l"><visual><geometry><box size="1 2"/></geometry>'
             '</visual></link></robot>')
-    with pytest.raises(robot_shapes.ShapeError, match="link 'l'"):
+    with pytest.raises(ShapeFileError, match="link 'l'"):
         robot_shapes.link_meshes(text)

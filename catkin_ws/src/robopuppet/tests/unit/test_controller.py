@@ -43,15 +43,15 @@ class Rig:
 
     def link(self):
         """Send a ping if one is due; the operator host answers it when echo is on."""
-        ping = self.core.ping(self.t, self.now_s())
+        ping = self.core.ping(self.now_s())
         if ping and self.echo:
             seq, sent_s = ping
-            assert self.core.on_echo(self.t, sent_s + 0.004, seq, sent_s,
+            assert self.core.on_echo(sent_s + 0.004, seq, sent_s,
                                      sent_s + 0.002 + OPERATOR_OFFSET_S) == ''
             self.echo_t = self.t
 
     def baxter(self, enabled=True):
-        self.core.baxter.on_robot_state(self.t, enabled and self.enabled, False, False)
+        self.core.on_robot_state(self.t, enabled and self.enabled, False, False)
         names = sum((baxter_description.arm_joint_names(s) for s in self.robot_sides), [])
         self.core.on_robot_joints(self.t, names, sum((POSE[s] for s in self.robot_sides), []),
                                   [], self.robot_age_s)
@@ -59,8 +59,8 @@ class Rig:
     def puppet(self, statuses=interface.WORKING, angles=None, age_s=0.0):
         """Send the puppet's joint states, age_s old on arrival."""
         for joint in settings.JOINTS:
-            self.core.on_status(self.t, joint, statuses)
-        self.core.teleop.on_heartbeat(self.t)
+            self.core.on_status(joint, statuses)
+        self.core.on_heartbeat(self.t)
         return self.core.on_joint_states(self.t, settings.JOINT_NAMES, angles or POSE['right'],
                                          self.operator_s(age_s), self.now_s())
 
@@ -75,9 +75,9 @@ class Rig:
         return out
 
     def press(self, button):
-        self.core.teleop.on_button(self.t, button)
+        self.core.on_button(button)
         out = self.step()
-        self.core.teleop.on_button(self.t, 0)
+        self.core.on_button(0)
         return out
 
 
@@ -187,7 +187,7 @@ def test_commands_name_baxters_joints_and_grips_carry_the_grippers_id():
                 if isinstance(a, controller.ArmCommand)]
     assert [(a.side, a.names) for a in commands] == [
         ('right', baxter_description.arm_joint_names('right'))]
-    rig.core.teleop.on_end_piece(rig.t, 0.0)  # the end-piece button pressed
+    rig.core.on_end_piece(0.0)  # the end-piece button pressed
     grips = [a for a in rig.step() if isinstance(a, baxter_upkeep.GripperCommand)]
     assert [(g.side, g.id, g.command) for g in grips] == [('right', 65538, 'go')]
 
@@ -195,7 +195,7 @@ def test_commands_name_baxters_joints_and_grips_carry_the_grippers_id():
 def test_a_gripper_that_follows_the_puppet_closed_is_not_calibrated():
     rig = ready()
     rig.press(interface.BUTTON_RIGHT)
-    rig.core.teleop.on_end_piece(rig.t, 0.0)
+    rig.core.on_end_piece(0.0)
     rig.step()
     assert rig.core.on_gripper_state(rig.t, 'right', 65538, False) == []
     assert [a.side for a in rig.core.on_gripper_state(rig.t, 'left', 65539, False)] == ['left']
@@ -242,7 +242,7 @@ def test_a_command_loop_that_completes_no_step_is_a_fault_with_the_last_error():
 def test_a_step_that_failed_to_go_out_faults_the_next_one():
     rig = ready()
     rig.press(interface.BUTTON_RIGHT)
-    rig.core.failed(rig.t, OverflowError('1e39 is no Float32'))
+    rig.core.failed(OverflowError('1e39 is no Float32'))
     rig.step()
     assert rig.core.teleop.state == interface.FAULT
     assert 'OverflowError' in rig.core.teleop.detail
@@ -279,15 +279,15 @@ def test_garbage_joint_states_of_another_publisher_are_bad_stamps_and_the_real_o
 def test_a_used_stamp_in_the_future_on_a_refined_estimate_is_forgotten_and_said():
     rig, names = Rig(echo=False), settings.JOINT_NAMES
     core = rig.core
-    seq, sent_s = core.ping(rig.t, rig.now_s())   # a slow first echo: the offset +- 0.25 s
+    seq, sent_s = core.ping(rig.now_s())   # a slow first echo: the offset +- 0.25 s
     rig.t += 0.5
-    assert core.on_echo(rig.t, rig.now_s(), seq, sent_s, sent_s + 0.25 + OPERATOR_OFFSET_S) == ''
+    assert core.on_echo(rig.now_s(), seq, sent_s, sent_s + 0.25 + OPERATOR_OFFSET_S) == ''
     taken, _ = core.on_joint_states(rig.t, names, POSE['right'], rig.operator_s(-0.24),
                                     rig.now_s())   # garbage stamped 0.24 s ahead: let through
     assert taken
-    seq, sent_s = core.ping(rig.t, rig.now_s())   # a fast one: the offset +- 2 ms
+    seq, sent_s = core.ping(rig.now_s())   # a fast one: the offset +- 2 ms
     rig.t += 0.004
-    assert core.on_echo(rig.t, rig.now_s(), seq, sent_s, sent_s + 0.002 + OPERATOR_OFFSET_S) == ''
+    assert core.on_echo(rig.now_s(), seq, sent_s, sent_s + 0.002 + OPERATOR_OFFSET_S) == ''
     taken, problem = core.on_joint_states(rig.t, names, POSE['right'], rig.operator_s(0.01),
                                           rig.now_s())
     assert taken and 'lies in the future' in problem and 'forgotten (1 so far)' in problem
@@ -353,7 +353,7 @@ def test_a_stop_on_an_old_baxter_pose_extrapolates_it_at_most_max_extrapolation(
     names = sum((baxter_description.arm_joint_names(s) for s in interface.BAXTER_SIDES), [])
     rig.core.on_robot_joints(rig.t, names, POSE['left'] + POSE['right'], [0.0] * 7 + speeds,
                              0.5)
-    rig.core.teleop.on_button(rig.t, interface.BUTTON_RIGHT)   # stop following, Baxter still
+    rig.core.on_button(interface.BUTTON_RIGHT)   # stop following, Baxter still
     out = rig.core.step(rig.t)                                 # reporting nothing newer
     stay = [a.angles for a in out if isinstance(a, controller.ArmCommand)]
     assert stay == [pytest.approx([a + v * baxter_watch.MAX_EXTRAPOLATION_S

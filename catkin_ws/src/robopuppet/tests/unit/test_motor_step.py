@@ -1,5 +1,5 @@
 """The calibration tab's motor check (gui.motor_step) and "Pose the virtual puppet", on the fake
-puppet of test_calibration_wizard: results in a table (joint, result) with failures red, what
+puppet of test_calibration_tab: results in a table (joint, result) with failures red, what
 the operator must do before and after (the simulated puppet's "let go of the puppet"), and the
 pose button sending the pose awaited to the simulated hand."""
 import os
@@ -12,7 +12,7 @@ from robopuppet import settings  # noqa: E402
 from robopuppet.calibration import motor_check, procedure  # noqa: E402
 from robopuppet.gui.calibration_tab import CalibrationTab  # noqa: E402
 from robopuppet.gui.look import GREEN, RED  # noqa: E402
-from test_calibration_wizard import FakeArm, frame  # noqa: E402
+from test_calibration_tab import FakeArm, frame  # noqa: E402
 
 SHOTS = os.environ.get('GUI_SHOTS', '')  # a folder: save screenshots there
 

@@ -39,28 +39,45 @@ def colours(array):
             if m.action == Marker.ADD and m.type != Marker.TEXT_VIEW_FACING}
 
 
+HELD_R = zone_topics.HELD_NAMESPACE + ' (arm_R)'
+
+
+def added(array, ns):
+    """Return the ADD markers of a namespace."""
+    return [m for m in array.markers if m.ns == ns and m.action == Marker.ADD]
+
+
 def test_a_zone_holding_an_arm_is_drawn_over_in_a_strong_colour_with_its_arm_named():
     found = zones.load_zones(ZONES_FILE)
     plain = zone_topics.zone_markers(found, rospy.Time(5))
-    held = zone_topics.zone_markers(found, rospy.Time(5), {'patient head': ['left']})
-    assert colours(plain) == {k: v for k, v in colours(held).items()
-                              if k[0] == zone_topics.NAMESPACE}   # the zones as before
-    strong = {k: v for k, v in colours(held).items() if k[0] == zone_topics.HELD_NAMESPACE}
+    assert not [m for m in plain.markers if m.ns.startswith(zone_topics.HELD_NAMESPACE)]
+    held = zone_topics.held_markers(found, rospy.Time(5), {'patient head': ['left']}, 'arm_R')
     head = [z.name for z in found].index('patient head')
-    assert list(strong) == [(zone_topics.HELD_NAMESPACE, head)]
-    r, g, b, a = strong[(zone_topics.HELD_NAMESPACE, head)]
+    shape, text = added(held, HELD_R)
+    assert (shape.id, text.id) == (head, len(found) + head)
+    r, g, b, a = shape.color.r, shape.color.g, shape.color.b, shape.color.a
     assert a >= 0.8 and r == pytest.approx(1.0) and b < 0.2   # opaque-ish orange, not red
-    shape = {m.id: m for m in held.markers if m.ns == zone_topics.HELD_NAMESPACE
-             and m.type == Marker.SPHERE}[head]
-    assert shape.scale.x > 0.36 and shape.pose.position.y == pytest.approx(0.80)  # over it
-    texts = [m.text for m in held.markers if m.ns == zone_topics.HELD_NAMESPACE
-             and m.type == Marker.TEXT_VIEW_FACING]
-    assert texts == ["'patient head' holds back Baxter's left arm"]
+    assert shape.type == Marker.SPHERE and shape.scale.x > 0.36   # over the zone
+    assert shape.pose.position.y == pytest.approx(0.80)
+    assert text.text == "'patient head' holds back Baxter's left arm"
     assert all(m.header.frame_id == bd.BASE_FRAME for m in held.markers)
-    both = zone_topics.zone_markers(found, rospy.Time(5), zone_topics.holding_zones(
-        'bed', 'bed'))
-    assert [m.text for m in both.markers if m.ns == zone_topics.HELD_NAMESPACE and m.text] == [
+    both = zone_topics.held_markers(found, rospy.Time(5), zone_topics.holding_zones(
+        'bed', 'bed'), 'arm_R')
+    assert [m.text for m in added(both, HELD_R) if m.text] == [
         "'bed' holds back Baxter's left and right arms"]
+
+
+def test_highlights_are_whole_and_leave_the_other_controllers_alone():
+    # Both arm controllers publish on one topic: neither may wipe the other's highlight (no
+    # DELETEALL), and each message says all of its own (a zone no longer holding is deleted).
+    found = zones.load_zones(ZONES_FILE)
+    none = zone_topics.held_markers(found, rospy.Time(5), {}, 'arm_L')
+    assert {m.action for m in none.markers} == {Marker.DELETE}
+    assert {m.ns for m in none.markers} == {zone_topics.HELD_NAMESPACE + ' (arm_L)'}
+    assert sorted(m.id for m in none.markers) == list(range(2 * len(found)))
+    held = zone_topics.held_markers(found, rospy.Time(5), {'bed': ['right']}, 'arm_R')
+    assert {m.ns for m in held.markers} == {HELD_R}
+    assert len(held.markers) == 2 * len(found)   # each id added or deleted
 
 
 def test_holding_zones_from_teleop_states_fields():
@@ -81,7 +98,7 @@ class Recorder:
 
 
 def held_texts(array):
-    return [m.text for m in array.markers if m.ns == zone_topics.HELD_NAMESPACE and m.text]
+    return [m.text for m in added(array, HELD_R) if m.text]
 
 
 def test_the_view_republishes_only_when_the_holding_zones_change(monkeypatch):

@@ -70,7 +70,7 @@ def test_a_press_acts_once_and_a_held_button_does_not_repeat():
 
 def test_the_first_reading_of_a_held_button_is_a_press_and_other_buttons_never_are():
     edge = recording.ButtonEdge()
-    assert edge.update(recording.RECORD_BUTTON)
+    assert edge.update(interface.BUTTON_RECORD)
     other = recording.ButtonEdge()
     assert not any(other.update(b) for b in (1, 2, 3, 0, interface.BUTTON_RIGHT))
 

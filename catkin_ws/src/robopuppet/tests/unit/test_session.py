@@ -14,7 +14,7 @@ import rospy
 import yaml
 from std_msgs.msg import Float32, UInt8
 
-from robopuppet.episodes import episode_files, recording
+from robopuppet.episodes import episode_files, episode_folder, metadata, recording
 from robopuppet.episodes.session import Recorder
 
 FREE = 10e9
@@ -38,7 +38,7 @@ def files(free=FREE):
             raise free
         return free
     return types.SimpleNamespace(BagWriter=episode_files.BagWriter, free_bytes=free_bytes,
-                                 write_metadata=episode_files.write_metadata)
+                                 write_metadata=metadata.write_metadata)
 
 
 def start(recorder, notes='', stamp_s=100.0):
@@ -146,7 +146,7 @@ WRITER = textwrap.dedent('''
     from std_msgs.msg import Float32
     from robopuppet.episodes import episode_files
     sys.path.insert(0, %r)
-    from test_episodes_session import raw
+    from test_session import raw
     writer = episode_files.BagWriter(sys.argv[1], 'episode_killed')
     start, last_flush, k = time.monotonic(), time.monotonic(), 0
     while True:
@@ -161,8 +161,8 @@ WRITER = textwrap.dedent('''
 
 
 def test_a_killed_writer_leaves_an_active_bag_that_repair_recovers(tmp_path):
-    episode_files.write_metadata(str(tmp_path / 'episode_killed.yaml'),
-                                 {'name': 'episode_killed', 'ended_cleanly': False})
+    metadata.write_metadata(str(tmp_path / 'episode_killed.yaml'),
+                            {'name': 'episode_killed', 'ended_cleanly': False})
     proc = subprocess.Popen([sys.executable, '-c', WRITER, str(tmp_path)],
                             stdout=subprocess.PIPE, text=True)
     try:
@@ -176,9 +176,9 @@ def test_a_killed_writer_leaves_an_active_bag_that_repair_recovers(tmp_path):
     finally:
         proc.kill()
     written_s = float(lines[-1].split()[1]) + (time.monotonic() - killed_at)
-    assert episode_files.leftovers(str(tmp_path)) == [str(tmp_path / 'episode_killed.bag.active')]
+    assert episode_folder.leftovers(str(tmp_path)) == [str(tmp_path / 'episode_killed.bag.active')]
     path = episode_files.repair(str(tmp_path / 'episode_killed.bag.active'))
-    assert episode_files.leftovers(str(tmp_path)) == []
+    assert episode_folder.leftovers(str(tmp_path)) == []
     with rosbag.Bag(path) as bag:
         values = [m.data for _, m, _ in bag.read_messages('/x')]
         end_s = bag.get_end_time() - 1000.0

@@ -57,7 +57,7 @@ class Puppet:
 
     def __init__(self, state_timeout_s):
         self.tp = teleop.Teleop('R', LIMITS, state_timeout_s=state_timeout_s)
-        self.tp.on_robot(0.0, True)
+        self.tp.on_robot(True)
         self.tp.on_robot_pose(0.0, NEUTRAL)
         self.t, self._beat_t = 0.0, 0.0
         self.seen = [(0.0, self.tp.state)]
