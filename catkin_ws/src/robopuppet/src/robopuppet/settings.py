@@ -16,6 +16,9 @@ from robopuppet.float32 import format_value, to_float32
 NUM_JOINTS = 7
 JOINTS = tuple(range(NUM_JOINTS))
 JOINT_NAMES = tuple('joint_%d' % j for j in JOINTS)  # sensor_msgs/JointState names
+# The puppet's encoders: quadrature on the twist joints (Uncalibrated until turned through their
+# index mark), hall (absolute) on the rotary joints.
+QUAD_JOINTS, HALL_JOINTS = (0, 2, 4, 6), (1, 3, 5)
 
 # The hardware behind the bounds (2020 MQP report: power supply, encoders, motors).
 MOTOR_SUPPLY_V = 7.2  # the buck-boost rail of the seven servo motors is set to 7.2 V

@@ -27,7 +27,7 @@ from waiting import seconds_until, wait_for
 # A hand pose that takes every quadrature joint across its index mark from the rest pose.
 HAND_RAD = (-0.4, 0.3, 0.3, 0.6, -0.2, -0.5, 0.25)
 ID = settings.CONFIG_ID
-ABSOLUTE = (1, 3, 5)  # hall-encoder joints: their angle is known from the start
+ABSOLUTE = settings.HALL_JOINTS  # their angle is known from the start
 HOME_STEP_RAD = 0.3125  # exact in float32, as the device holds it
 
 

@@ -27,7 +27,6 @@ from waiting import wait_for
 RELEASED = [1.0 if g == interface.END_PIECE_GRIPPER else 0.0   # the end-piece button released
             for g in range(interface.NUM_GRIPPERS)]
 PRESSED = [0.0] * interface.NUM_GRIPPERS
-QUAD_JOINTS = (0, 2, 4, 6)
 STILL_RAD = 1e-3   # a puppet whose angles change less than this over STILL_SETS sets is still
 STILL_SETS = 3
 
@@ -188,7 +187,7 @@ class Baxter:
 def calibrate(puppet, pose):
     """Sweep the quadrature joints through their index marks, ending the hand at `pose`."""
     first = list(pose)
-    for j in QUAD_JOINTS:
+    for j in settings.QUAD_JOINTS:
         first[j] = -0.4 if pose[j] >= 0 else 0.4
     wait_for(lambda: puppet.angles is not None, 30, 'joint_states from puppet %s' % puppet.side)
     start = list(puppet.angles)

@@ -39,6 +39,11 @@ def first_message(topic, msg_type, timeout_s):
     return latest.msg
 
 
+def lit(navigator_state, light):
+    """Return whether a navigator's light is on, found by name as the SDK 1.2's Navigator does."""
+    return navigator_state.lights[navigator_state.light_names.index(light)]
+
+
 class BaxterSimSdkTest(unittest.TestCase):
 
     @classmethod
@@ -67,7 +72,7 @@ class BaxterSimSdkTest(unittest.TestCase):
         self.assertEqual((light.msg.state, light.msg.isInputOnly), (DigitalIOState.OFF, False))
         for value, state in ((True, DigitalIOState.ON), (False, DigitalIOState.OFF)):
             pub.publish(DigitalOutputCommand('left_inner_light', value))
-            wait_for(lambda: light.msg.state == state and nav.msg.lights[0] == value, 2.0,
+            wait_for(lambda: light.msg.state == state and lit(nav.msg, 'inner') == value, 2.0,
                      'the light to switch to %s' % value)
 
     def test_a_simulated_cuff_squeeze_presses_the_cuff(self):
@@ -111,6 +116,8 @@ class BaxterSimSdkTest(unittest.TestCase):
                 self.assertFalse(msg.isInputOnly)
             msg = first_message('/robot/navigators/%s_navigator/state' % nav, NavigatorState, 1.0)
             self.assertEqual((len(msg.buttons), len(msg.lights)), (3, 2))
+            self.assertEqual((msg.button_names, msg.light_names),
+                             (['ok', 'back', 'show'], ['inner', 'outer']))
         # ik_service_client.py: wait_for_service 5 s, one pose in base; result_type[0] valid.
         for side in ('left', 'right'):
             name = '/ExternalTools/%s/PositionKinematicsNode/IKService' % side

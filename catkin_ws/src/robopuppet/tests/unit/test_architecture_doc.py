@@ -19,7 +19,8 @@ PREFIXES = (interface.limb_topic('<side>', ''), interface.baxter_gripper_topic('
 RELATIVE = {interface.JOINT_STATES, interface.USER_BUTTON, interface.HEARTBEAT, interface.OPMODE,
             interface.TELEOP_STATE, interface.GET_CONFIG, interface.SET_CONFIG,
             interface.SET_ARM_CONFIG, interface.STORED_SETTINGS, interface.ACTIVE_SETTINGS,
-            interface.LINK_PING, interface.LINK_ECHO, interface.LINK_STATE}
+            interface.LINK_PING, interface.LINK_ECHO, interface.LINK_STATE,
+            interface.CALIBRATION_TARGET}
 ABSOLUTE = {interface.DIAGNOSTICS, interface.REPLAY_STOP, interface.ZONE_MARKERS,
             interface.ZONE_HOLD_MARKERS, interface.ROOM_MARKERS, interface.ROBOT_STATE,
             interface.ROBOT_JOINT_STATES,

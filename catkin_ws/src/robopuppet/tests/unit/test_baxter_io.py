@@ -46,7 +46,11 @@ def test_bad_io_commands_change_nothing(call, name, value, reason):
 def test_navigator_buttons_follow_their_inputs():
     io = baxter_io.DigitalIO()
     io.press('torso_left_button_back', True)
-    assert io.navigator_states()['torso_left']['buttons'] == [False, True, False]
+    state = io.navigator_states()['torso_left']
+    assert state['buttons'] == [False, True, False]
+    # SDK 1.2's NavigatorState names them; baxter_interface finds the lights by name.
+    assert (state['button_names'], state['light_names']) == (['ok', 'back', 'show'],
+                                                           ['inner', 'outer'])
 
 
 def test_the_head_pans_at_the_commanded_speed_and_stops_at_the_target():

@@ -67,7 +67,7 @@ class FakeArm:
     def pose(self, angles_rad, status=interface.WORKING, end_piece=1.0):
         stored = self.stored_settings()
         for joint, q in enumerate(angles_rad):
-            self.state.on_status(joint, status if joint in procedure.QUAD_JOINTS
+            self.state.on_status(joint, status if joint in settings.QUAD_JOINTS
                                  else interface.WORKING)
             self.state.on_angle(joint, report(q, joint, stored[joint]), 0.0)
         self.state.on_gripper(interface.END_PIECE_GRIPPER, end_piece)

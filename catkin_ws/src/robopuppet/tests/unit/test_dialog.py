@@ -86,4 +86,4 @@ def test_joints_not_working_are_turned_first():
     status, _, prompts = converse(arm, ['q'])
     assert status == 1
     assert prompts == ['Turn joints %s through their index mark (0 rad), then press Enter: '
-                       % list(procedure.QUAD_JOINTS)]
+                       % list(settings.QUAD_JOINTS)]

@@ -4,8 +4,8 @@ import math
 import pytest
 
 from robopuppet.protocol import codec
-from robopuppet.puppet_sim.puppet_encoders import (HALL_RAD_PER_COUNT, QUAD_JOINTS,
-                                                   QUAD_RAD_PER_COUNT, Encoders)
+from robopuppet.puppet_sim.puppet_encoders import HALL_RAD_PER_COUNT, QUAD_RAD_PER_COUNT, Encoders
+from robopuppet.settings import QUAD_JOINTS
 
 POSE = (0.3, 0.5, -0.25, 0.9, 0.2, 0.4, -0.15)
 

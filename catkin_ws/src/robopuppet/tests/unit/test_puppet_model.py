@@ -7,7 +7,6 @@ from robopuppet import settings
 from robopuppet.protocol import codec
 from robopuppet.puppet_sim.puppet_arm import (COULOMB_FRICTION_NM, HAND_GRIP_S, HAND_YIELD_V,
                                               NOMINAL_VOLTAGE_V, STALL_TORQUE_NM)
-from robopuppet.puppet_sim.puppet_encoders import QUAD_JOINTS
 from robopuppet.puppet_sim.puppet_model import POWER_ON_SETTINGS, REST_POSE_RAD, PuppetFirmware
 
 ID = settings.CONFIG_ID
@@ -83,7 +82,7 @@ def test_rest_pose_quad_joints_uncalibrated_until_index_then_mechanical_angle():
     t, out = run(firmware, 0.0, 0.5)
     last = {m.joint: m for m in states(out)}
     for joint in settings.JOINTS:
-        expected = codec.UNCALIBRATED if joint in QUAD_JOINTS else codec.WORKING
+        expected = codec.UNCALIBRATED if joint in settings.QUAD_JOINTS else codec.WORKING
         assert last[joint].status == expected
         assert REST_POSE_RAD[joint] != 0.0
     assert last[1].angle_rad == pytest.approx(REST_POSE_RAD[1], abs=0.05)

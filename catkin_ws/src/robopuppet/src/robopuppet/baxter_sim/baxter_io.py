@@ -11,9 +11,11 @@ from robopuppet.baxter_sim.baxter_refusals import CommandError, brief, finite
 from robopuppet.interface import BAXTER_SIDES
 
 NAVIGATORS = ('left', 'right', 'torso_left', 'torso_right')  # the SDK's Navigator locations
-# A navigator's buttons in NavigatorState order: button0 (wheel press), button1, button2.
+# A navigator's buttons in NavigatorState order (its button_names): button0 (wheel press),
+# button1, button2; its lights (light_names), which the SDK 1.2 finds by name. Rethink's own
+# simulator (baxter_sim_io 1.2.0) publishes the same names.
 NAVIGATOR_BUTTONS = ('ok', 'back', 'show')
-NAVIGATOR_LIGHTS = ('inner', 'outer')     # NavigatorState.lights order, as the SDK reads them
+NAVIGATOR_LIGHTS = ('inner', 'outer')
 # The cuff's squeeze sensor and its two buttons (upper: 'dash', lower: 'circle'), the shoulder's.
 CUFF_INPUTS = ('lower_cuff', 'upper_button', 'lower_button', 'shoulder_button')
 
@@ -91,9 +93,10 @@ class DigitalIO:
 
     def navigator_states(self):
         """Return {navigator location: NavigatorState fields} (wheel 0..255)."""
-        return {nav: dict(names=list(NAVIGATOR_BUTTONS),
+        return {nav: dict(button_names=list(NAVIGATOR_BUTTONS),
                           buttons=[self.states[button_name(nav, b)] for b in NAVIGATOR_BUTTONS],
                           wheel=self.wheels[nav],
+                          light_names=list(NAVIGATOR_LIGHTS),
                           lights=[self.states[light_name(nav, light)]
                                   for light in NAVIGATOR_LIGHTS])
                 for nav in NAVIGATORS}

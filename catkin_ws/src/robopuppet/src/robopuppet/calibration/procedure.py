@@ -20,7 +20,6 @@ import math
 from robopuppet import baxter_description, interface, settings
 from robopuppet.calibration import solver
 
-QUAD_JOINTS = (0, 2, 4, 6)  # quadrature encoders: Uncalibrated until turned through 0 rad
 CALIBRATED = ('home_angle', 'sign_angle')
 CLAMP_MARGIN_RAD = 0.01  # a reading this close to angle_min/angle_max may be clamped
 END_PIECE_PRESSED_BELOW, END_PIECE_RELEASED_ABOVE = 0.3, 0.7  # gripper 3, with hysteresis
@@ -80,7 +79,7 @@ def readout(readings):
 
 def joints_to_turn(readings):
     """Return the quadrature joints that are not Working (to turn through their index mark)."""
-    return [j for j in QUAD_JOINTS if readings[j][0] != interface.WORKING]
+    return [j for j in settings.QUAD_JOINTS if readings[j][0] != interface.WORKING]
 
 
 def target_state(side, pose):

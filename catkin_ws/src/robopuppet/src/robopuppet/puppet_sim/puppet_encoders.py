@@ -13,8 +13,6 @@ from robopuppet import settings
 from robopuppet.protocol import codec
 from robopuppet.puppet_sim.puppet_arm import wrap
 
-HALL_JOINTS = (1, 3, 5)
-QUAD_JOINTS = (0, 2, 4, 6)
 HALL_RAD_PER_COUNT = 2.0 * math.pi / 2 ** 14   # AS5048B, 14 bits
 QUAD_RAD_PER_COUNT = 2.0 * math.pi / 2 ** 13   # 8192 counts per revolution
 INDEX_HALF_WIDTH_RAD = 0.005  # the index pulse is about 0.6 degrees wide
@@ -33,22 +31,23 @@ class Encoders:
 
     def __init__(self, pose_rad, hall_disconnected=()):
         missing = set(hall_disconnected)
-        if not missing <= set(HALL_JOINTS):
+        if not missing <= set(settings.HALL_JOINTS):
             raise ValueError('only hall-encoder joints %s can be disconnected, got %s'
-                             % (list(HALL_JOINTS), sorted(missing)))
-        self.hall_working = [j in HALL_JOINTS and j not in missing for j in settings.JOINTS]
-        self.calibrated = [j in HALL_JOINTS for j in settings.JOINTS]  # quad: after the index
+                             % (list(settings.HALL_JOINTS), sorted(missing)))
+        hall = settings.HALL_JOINTS
+        self.hall_working = [j in hall and j not in missing for j in settings.JOINTS]
+        self.calibrated = [j in hall for j in settings.JOINTS]  # quadrature: after the index
         self._count_origin_rad = list(pose_rad)  # quadrature counts are relative to this
 
     def status(self, joint):
         """Return the codec encoder status of a joint (WORKING, DISCONNECTED, UNCALIBRATED)."""
-        if joint in HALL_JOINTS:
+        if joint in settings.HALL_JOINTS:
             return codec.WORKING if self.hall_working[joint] else codec.DISCONNECTED
         return codec.WORKING if self.calibrated[joint] else codec.UNCALIBRATED
 
     def raw_rad(self, joint, mechanical_rad):
         """Return a joint's raw angle (rad, in whole counts), or None while it is disconnected."""
-        if joint in HALL_JOINTS:
+        if joint in settings.HALL_JOINTS:
             if not self.hall_working[joint]:
                 return None
             return _counts(mechanical_rad % (2.0 * math.pi), HALL_RAD_PER_COUNT)
@@ -58,7 +57,7 @@ class Encoders:
     def move(self, before_rad, after_rad):
         """Track the arm's move from before_rad to after_rad (mechanical, rad): a quadrature
         joint that meets its index mark is calibrated and its count zeroed."""
-        for joint in QUAD_JOINTS:
+        for joint in settings.QUAD_JOINTS:
             if _passes_index(before_rad[joint], after_rad[joint]):
                 self.calibrated[joint] = True
                 self._count_origin_rad[joint] = 0.0  # the index pulse zeroes the count
