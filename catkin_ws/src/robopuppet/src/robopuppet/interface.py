@@ -108,6 +108,7 @@ SET_SUPER_STOP = '/robot/set_super_stop'
 SOFTWARE_VERSION_PARAM = '/rethink/software_version'
 ROBOT_DESCRIPTION_PARAM = '/robot_description'   # the URDF text (robot_state_publisher's)
 DIGITAL_IO_COMMAND = '/robot/digital_io/command'    # baxter_core_msgs/DigitalOutputCommand
+ANALOG_IO_COMMAND = '/robot/analog_io/command'      # baxter_core_msgs/AnalogOutputCommand
 HEAD_PAN_COMMAND = '/robot/head/command_head_pan'   # baxter_core_msgs/HeadPanCommand
 HEAD_NOD_COMMAND = '/robot/head/command_head_nod'   # std_msgs/Bool
 HEAD_STATE = '/robot/head/head_state'               # baxter_core_msgs/HeadState

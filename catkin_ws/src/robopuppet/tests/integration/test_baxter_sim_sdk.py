@@ -6,9 +6,9 @@ import unittest
 
 import rospy
 import rostest
-from baxter_core_msgs.msg import (AnalogIOState, AssemblyState, DigitalIOState,
-                                  DigitalOutputCommand, HeadPanCommand, HeadState,
-                                  NavigatorState)
+from baxter_core_msgs.msg import (AnalogIOState, AnalogOutputCommand, AssemblyState,
+                                  DigitalIOState, DigitalOutputCommand, HeadPanCommand,
+                                  HeadState, NavigatorState)
 from baxter_core_msgs.srv import SolvePositionIK, SolvePositionIKRequest
 from geometry_msgs.msg import Point, Pose, PoseStamped, Quaternion
 from std_msgs.msg import Bool, Header
@@ -28,6 +28,7 @@ TOPICS = dict(
     + [('/robot/navigators/%s_navigator/state' % nav, NavigatorState) for nav in NAVIGATORS]
     + [('/robot/analog_io/%s_hand_range/state' % side, AnalogIOState)
        for side in ('left', 'right')]
+    + [('/robot/analog_io/torso_fan/state', AnalogIOState)]
     + [('/robot/head/head_state', HeadState)])
 RATE_HZ = 100.0     # Rethink's simulator publishes these at 100 Hz, like joint_states
 
@@ -74,6 +75,17 @@ class BaxterSimSdkTest(unittest.TestCase):
             pub.publish(DigitalOutputCommand('left_inner_light', value))
             wait_for(lambda: light.msg.state == state and lit(nav.msg, 'inner') == value, 2.0,
                      'the light to switch to %s' % value)
+
+    def test_the_torso_fan_ramps_as_analog_io_rampup_sets_it(self):
+        # baxter_interface.AnalogIO('torso_fan'): its state within 2 s, an output (not input
+        # only); set_output publishes the command and waits up to 2 s for the state to match.
+        fan = Latest('/robot/analog_io/torso_fan/state', AnalogIOState)
+        wait_for(lambda: fan.msg, 2.0, 'the torso fan state')
+        self.assertFalse(fan.msg.isInputOnly)
+        pub = publisher('/robot/analog_io/command', AnalogOutputCommand)
+        for value in (0, 50, 100, 0):
+            pub.publish(AnalogOutputCommand('torso_fan', value))
+            wait_for(lambda: fan.msg.value == value, 2.0, 'the fan at %d' % value)
 
     def test_a_simulated_cuff_squeeze_presses_the_cuff(self):
         pub = publisher('/baxter_sim/digital_input', DigitalOutputCommand)

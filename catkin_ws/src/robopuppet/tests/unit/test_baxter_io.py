@@ -43,6 +43,33 @@ def test_bad_io_commands_change_nothing(call, name, value, reason):
     assert error.value.reason == reason and io.digital_states() == before
 
 
+def test_the_torso_fan_is_an_analog_output_the_range_sensors_inputs():
+    analog = baxter_io.AnalogIO()
+    assert analog.states()['torso_fan'] == dict(value=0.0, isInputOnly=False)
+    analog.command('torso_fan', 100)
+    assert analog.states()['torso_fan']['value'] == 100.0
+    assert analog.states()['left_hand_range'] == dict(value=baxter_io.RANGE_NOTHING_IN_REACH,
+                                                      isInputOnly=True)
+
+
+@pytest.mark.parametrize('name, value, reason', [
+    ('torso_fan', 101, 'bad value'),
+    ('torso_fan', -1, 'bad value'),
+    ('torso_fan', 50.0, 'bad value'),
+    ('torso_fan', True, 'bad value'),
+    ('left_hand_range', 10, 'input only'),
+    ('x' * 10 ** 5, 10, 'unknown component'),
+])
+def test_bad_analog_commands_change_nothing(name, value, reason):
+    analog = baxter_io.AnalogIO()
+    analog.command('torso_fan', 40)
+    before = analog.states()
+    with pytest.raises(CommandError) as error:
+        analog.command(name, value)
+    assert error.value.reason == reason and analog.states() == before
+    assert len(str(error.value)) < 200
+
+
 def test_navigator_buttons_follow_their_inputs():
     io = baxter_io.DigitalIO()
     io.press('torso_left_button_back', True)

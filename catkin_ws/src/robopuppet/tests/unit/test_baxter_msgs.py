@@ -11,6 +11,7 @@ from robopuppet.baxter_sim import baxter_io
 # md5sums genmsg computes from its msg/srv text (SDK 1.2.0, what a real Baxter speaks).
 RETHINK_MD5 = {
     'AnalogIOState': '39af371963dc9e4447e91f430c720b33',
+    'AnalogOutputCommand': 'a7b945129a083ca4095d48aa94841d85',
     'AssemblyState': '356d9dd237ce73b2667da9235f541933',
     'DigitalIOState': '29d0be3859dae81a66b28f167ecec98c',
     'DigitalOutputCommand': '23f05028c1a699fb83e22401228c3a9e',

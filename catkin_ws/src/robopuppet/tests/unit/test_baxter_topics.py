@@ -22,14 +22,15 @@ def test_every_io_component_and_the_head_publish_once_with_a_known_type():
     published = topics.io_publications()
     names = [topic for topic, _ in published]
     assert len(names) == len(set(names)) == (
-        len(bio.DIGITAL_INPUTS + bio.DIGITAL_OUTPUTS + bio.NAVIGATORS + bio.ANALOG_INPUTS) + 1)
+        len(bio.DIGITAL_INPUTS + bio.DIGITAL_OUTPUTS + bio.NAVIGATORS + bio.ANALOG_INPUTS
+            + bio.ANALOG_OUTPUTS) + 1)
     assert all(get_message_class(kind) is not None for _, kind in published)
     assert (interface.HEAD_STATE, 'baxter_core_msgs/HeadState') in published
 
 
 def test_each_subscription_feeds_a_method_the_arguments_it_takes():
     rows = topics.subscriptions()
-    assert len({row.topic for row in rows}) == len(rows) == 7 + 2 * 4
+    assert len({row.topic for row in rows}) == len(rows) == 8 + 2 * 4
     for row in rows:
         kind = get_message_class(row.kind)
         assert set(row.fields) <= set(kind.__slots__), row.topic

@@ -11,7 +11,6 @@ import collections
 
 from robopuppet import interface
 from robopuppet.baxter_description import BASE_FRAME
-from robopuppet.baxter_sim import baxter_io as bio
 from robopuppet.baxter_sim.baxter_ik import ArmIK
 from robopuppet.baxter_sim.baxter_refusals import CommandError, RefusalThrottle, brief
 from robopuppet.interface import BAXTER_SIDES
@@ -126,6 +125,10 @@ class BaxterApi:
         """A DigitalOutputCommand: switch an output (a navigator light)."""
         return self._apply(topic, wall_s, self.model.io.command, name, value)
 
+    def analog_output(self, topic, name, value, wall_s):
+        """An AnalogOutputCommand: set an output (the torso fan's speed)."""
+        return self._apply(topic, wall_s, self.model.analog.command, name, value)
+
     def digital_input(self, topic, name, value, wall_s):
         """The stand-in's simulated hand: press (True) or release an input (cuff, button)."""
         return self._apply(topic, wall_s, self.model.io.press, name, value)
@@ -219,7 +222,7 @@ class BaxterApi:
         states.update((interface.navigator_state_topic(n), f)
                       for n, f in io.navigator_states().items())
         states.update((interface.analog_io_state_topic(n), f)
-                      for n, f in bio.analog_states().items())
+                      for n, f in self.model.analog.states().items())
         states[interface.HEAD_STATE] = self.model.head.state()
         return states
 

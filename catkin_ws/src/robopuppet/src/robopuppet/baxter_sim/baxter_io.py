@@ -3,8 +3,8 @@
 Pure: no rospy, no messages, no clock (the head takes `now_s`, s). Component names are the
 Rethink SDK 1.2's: baxter_interface.DigitalIO('<side>_lower_cuff'), Navigator('<location>')
 with its lights '<location>_inner_light' and '<location>_outer_light',
-AnalogIO('<side>_hand_range'). States are dicts of message fields (DigitalIOState, NavigatorState,
-AnalogIOState, HeadState).
+AnalogIO('<side>_hand_range') and AnalogIO('torso_fan'). States are dicts of message fields
+(DigitalIOState, NavigatorState, AnalogIOState, HeadState).
 """
 from robopuppet.baxter_sim.baxter_gripper import approach
 from robopuppet.baxter_sim.baxter_refusals import CommandError, brief, finite
@@ -35,6 +35,9 @@ DIGITAL_INPUTS = tuple(['%s_%s' % (side, name) for side in BAXTER_SIDES for name
 DIGITAL_OUTPUTS = tuple(light_name(nav, light) for nav in NAVIGATORS
                         for light in NAVIGATOR_LIGHTS)
 ANALOG_INPUTS = tuple('%s_hand_range' % side for side in BAXTER_SIDES)
+# The torso's fan: an analog output, its speed 0..100 % (the SDK's analog_io_rampup ramps it so).
+ANALOG_OUTPUTS = ('torso_fan',)
+FAN_MAX = 100
 # The hand's IR range sensor with nothing in reach (the stand-in sees no objects).
 RANGE_NOTHING_IN_REACH = 65535.0
 # DigitalIOState.PRESSED / UNPRESSED (= ON / OFF); HeadPanCommand's enable_pan_request values.
@@ -102,9 +105,36 @@ class DigitalIO:
                 for nav in NAVIGATORS}
 
 
-def analog_states():
-    """Return {component name: AnalogIOState fields but the timestamp}."""
-    return {name: dict(value=RANGE_NOTHING_IN_REACH, isInputOnly=True) for name in ANALOG_INPUTS}
+class AnalogIO:
+    """The analog components: the hands' range sensors (inputs, nothing in reach) and the torso
+    fan (an output, 0 at start)."""
+
+    def __init__(self):
+        self.outputs = dict.fromkeys(ANALOG_OUTPUTS, 0)
+
+    def command(self, name, value):
+        """Set an output (an AnalogOutputCommand: name, value 0..FAN_MAX).
+
+        Raises:
+            CommandError: an unknown component, an input, or a value out of range.
+        """
+        if name not in self.outputs:
+            if name in ANALOG_INPUTS:
+                raise CommandError('analog io %s is an input: it is read, not commanded' % name,
+                                   'input only')
+            raise CommandError('no analog io component %s' % brief(name), 'unknown component')
+        if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= FAN_MAX:
+            raise CommandError('analog output %s takes 0..%d, got %s' % (name, FAN_MAX,
+                                                                        brief(value)), 'bad value')
+        self.outputs[name] = value
+
+    def states(self):
+        """Return {component name: AnalogIOState fields but the timestamp}."""
+        states = {name: dict(value=RANGE_NOTHING_IN_REACH, isInputOnly=True)
+                  for name in ANALOG_INPUTS}
+        states.update((name, dict(value=float(value), isInputOnly=False))
+                      for name, value in self.outputs.items())
+        return states
 
 
 class Head:

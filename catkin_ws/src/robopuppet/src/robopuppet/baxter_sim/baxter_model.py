@@ -18,7 +18,7 @@ import math
 
 from robopuppet import baxter_description as bd
 from robopuppet.baxter_sim.baxter_gripper import GRIPPER_OPEN, Gripper, approach
-from robopuppet.baxter_sim.baxter_io import DigitalIO, Head
+from robopuppet.baxter_sim.baxter_io import AnalogIO, DigitalIO, Head
 from robopuppet.baxter_sim.baxter_joint_command import (POSITION_MODE, TORQUE_MODE, VELOCITY_MODE,
                                                         command_targets)
 from robopuppet.baxter_sim.baxter_refusals import CommandError, NotEnabledError, brief, finite
@@ -168,7 +168,7 @@ class BaxterModel:
             speed = description.limit(self.fingers[side][0]).velocity / travel_m[side] * 100.0
             self.grippers[side] = Gripper(speed, gripper_calibrated, now_s)
         self.head = Head(description.limit(bd.HEAD_PAN), now_s)
-        self.io = DigitalIO()
+        self.io, self.analog = DigitalIO(), AnalogIO()
 
     # -- enable state (/robot/set_super_enable, _reset, _stop) --
     def set_enabled(self, enable):

@@ -32,7 +32,7 @@ class BaxterSimNode:
     ROS API (docs/baxter_sim.md has the types and units):
       Subscribes: /robot/set_super_enable, _reset, _stop; /robot/limb/<side>/joint_command,
         set_speed_ratio, joint_command_timeout; /robot/end_effector/<side>_gripper/command;
-        digital outputs, head pan and nod, /baxter_sim/digital_input (baxter_topics.subscriptions).
+        digital and analog outputs, head pan and nod, /baxter_sim/digital_input (baxter_topics).
       Publishes every cycle: /robot/joint_states, /robot/limb/<side>/endpoint_state (frame base),
         /robot/end_effector/<side>_gripper/state and every baxter_topics.io_publications() topic
         (baxter_publishers); /robot/state (latched, rate_hz/5 and on change), gripper properties

@@ -13,7 +13,8 @@ IO_STATES = (
     (interface.digital_io_state_topic, 'baxter_core_msgs/DigitalIOState',
      bio.DIGITAL_INPUTS + bio.DIGITAL_OUTPUTS),
     (interface.navigator_state_topic, 'baxter_core_msgs/NavigatorState', bio.NAVIGATORS),
-    (interface.analog_io_state_topic, 'baxter_core_msgs/AnalogIOState', bio.ANALOG_INPUTS),
+    (interface.analog_io_state_topic, 'baxter_core_msgs/AnalogIOState',
+     bio.ANALOG_INPUTS + bio.ANALOG_OUTPUTS),
 )
 
 
@@ -38,6 +39,8 @@ def subscriptions():
             Subscription(interface.SET_SUPER_STOP, 'std_msgs/Empty', 'stop', None, (), False),
             Subscription(interface.DIGITAL_IO_COMMAND, msgs + 'DigitalOutputCommand',
                          'digital_output', None, ('name', 'value'), False),
+            Subscription(interface.ANALOG_IO_COMMAND, msgs + 'AnalogOutputCommand',
+                         'analog_output', None, ('name', 'value'), False),
             Subscription(interface.SIM_DIGITAL_INPUT, msgs + 'DigitalOutputCommand',
                          'digital_input', None, ('name', 'value'), False),
             Subscription(interface.HEAD_PAN_COMMAND, msgs + 'HeadPanCommand', 'head_pan', None,
