@@ -63,6 +63,7 @@ ROS adapters besides the nodes:
 - `episodes.recorder_params`: the recorder's ~parameters and the metadata's facts of the system
 - `cameras.camera_topics`: a camera's image topics and fixed cameras' static frames
 - `cameras.node_loops`: the loops of a camera node and its /diagnostics
+- `cameras.camera_services`: sim_cameras' Baxter camera services and its cameras' topics
 - `gui.puppet_client`: the GUI's ROS client: services and their answers
 - `gui.state_topics`: the GUI's subscriptions of one arm's state
 - `gui.command_topics`: the GUI's publishers of one arm's commands

@@ -102,6 +102,7 @@ DIAG_NETWORK = 'operator-robot link'  # arm_X: the link between the two hosts
 # ---- Baxter's own API (Rethink's names: the real robot's, served by baxter_sim too) -----------
 ROBOT_STATE = '/robot/state'
 ROBOT_JOINT_STATES = '/robot/joint_states'
+JOINT_STATE_PUBLISH_RATE = '/robot/joint_state_publish_rate'   # std_msgs/UInt16, Hz
 SET_SUPER_ENABLE = '/robot/set_super_enable'
 SET_SUPER_RESET = '/robot/set_super_reset'
 SET_SUPER_STOP = '/robot/set_super_stop'
@@ -151,10 +152,25 @@ def limb_topic(side, name):
     return '/robot/limb/%s/%s' % (side, name)
 
 
+def collision_avoidance_state_topic(side):
+    """Return a Baxter arm's CollisionAvoidanceState topic."""
+    return limb_topic(side, 'collision_avoidance_state')
+
+
+def suppress_topic(side, behaviour):
+    """Return the topic that suppresses an arm's safety behaviour while messages keep coming,
+    e.g. suppress_topic('left', 'cuff_interaction')."""
+    return limb_topic(side, 'suppress_' + behaviour)
+
+
 CAMERAS_NS = '/cameras'
 CAMERA_IMAGE = 'image'                  # sensor_msgs/Image, raw
 CAMERA_COMPRESSED = 'image/compressed'  # sensor_msgs/CompressedImage, JPEG
 CAMERA_INFO = 'camera_info'             # sensor_msgs/CameraInfo
+# Baxter's camera services (baxter_core_msgs; sim_cameras serves them for Baxter's cameras)
+CAMERAS_LIST = '/cameras/list'    # ListCameras: the cameras that have power
+CAMERAS_OPEN = '/cameras/open'    # OpenCamera: start streaming at a mode, err 0 when done
+CAMERAS_CLOSE = '/cameras/close'  # CloseCamera: stop streaming, err 0 when done
 
 
 def camera_topic(camera, name):

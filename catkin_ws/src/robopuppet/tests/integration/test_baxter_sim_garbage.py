@@ -9,11 +9,12 @@ import unittest
 
 import rospy
 import rostest
-from baxter_core_msgs.msg import (AssemblyState, EndEffectorCommand, EndEffectorState,
-                                  EndpointState, JointCommand)
+from baxter_core_msgs.msg import (AssemblyState, EndEffectorCommand, EndEffectorProperties,
+                                  EndEffectorState, EndpointState, JointCommand)
 from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import JointState
-from std_msgs.msg import Bool, Empty, Float64
+from std_msgs.msg import Bool, Empty, Float64, UInt16
+from trajectory_msgs.msg import JointTrajectoryPoint
 
 from baxter_sim_testing import Latest, publisher, warned, warnings
 from waiting import wait_for
@@ -25,6 +26,9 @@ RATE_HZ = 100.0
 SEED = 14
 BAD_FLOATS = [math.nan, math.inf, -math.inf, 1e39, -1e39, 1e308, -1e308, 5e-324, 0.0, -1.0]
 HUGE_NAMES = 100000
+# Joint state rates that all leave /robot/joint_states at 100 Hz (0 is refused, more is cut to
+# the loop's 100 Hz), so the rate check below still holds; lower rates: baxter_sim_sdk.
+PUBLISH_RATES = (0, 100, 500, 1000, 65535)
 
 
 # The joint-command refusals test_1 sends, by the words of their log lines.
@@ -66,6 +70,17 @@ class Garbage:
         mode = rng.choice([1, 4, 1, 4, 2, 3, 0, -1, 5, 2 ** 31 - 1, -2 ** 31])
         return JointCommand(mode=mode, names=chosen, command=[self.number() for _ in range(count)])
 
+    def feed_forward(self):
+        rng = self.rng
+        return JointTrajectoryPoint(**{field: [self.number() for _ in range(rng.choice(
+            [0, 7, 7, rng.randrange(0, 50)]))] for field in ('positions', 'velocities',
+                                                             'accelerations')})
+
+    def custom_gripper(self):
+        rng = self.rng
+        kind = rng.choice([EndEffectorProperties, EndEffectorState])
+        return kind(id=rng.choice([GRIPPER_ID, 131073, rng.randrange(2 ** 32)]))
+
     def gripper_command(self):
         rng = self.rng
         args = rng.choice([
@@ -100,8 +115,16 @@ class BaxterSimGarbageTest(unittest.TestCase):
         cls.stop_pub = publisher('/robot/set_super_stop', Empty)
         cls.reset_pub = publisher('/robot/set_super_reset', Empty)
         cls.cmd_pub, cls.ratio_pub, cls.timeout_pub, cls.gripper_pub = {}, {}, {}, {}
+        cls.rate_pub = publisher('/robot/joint_state_publish_rate', UInt16)
+        cls.feed_forward_pub, cls.custom_pub = {}, {}
         for side in BAXTER_SIDES:
             limb = '/robot/limb/%s/' % side
+            cls.feed_forward_pub[side] = publisher(limb + 'inverse_dynamics_command',
+                                                   JointTrajectoryPoint)
+            rsdk = '/robot/end_effector/%s_gripper/rsdk/' % side
+            cls.custom_pub[side] = {
+                EndEffectorProperties: publisher(rsdk + 'set_properties', EndEffectorProperties),
+                EndEffectorState: publisher(rsdk + 'set_state', EndEffectorState)}
             cls.cmd_pub[side] = publisher(limb + 'joint_command', JointCommand)
             cls.ratio_pub[side] = publisher(limb + 'set_speed_ratio', Float64)
             cls.timeout_pub[side] = publisher(limb + 'joint_command_timeout', Float64)
@@ -172,7 +195,12 @@ class BaxterSimGarbageTest(unittest.TestCase):
                 self.ratio_pub[side].publish(Float64(rng.number()))
                 self.timeout_pub[side].publish(Float64(rng.number()))
                 self.gripper_pub[side].publish(rng.gripper_command())
-                sent += 5
+                self.feed_forward_pub[side].publish(rng.feed_forward())
+                custom = rng.custom_gripper()
+                self.custom_pub[side][type(custom)].publish(custom)
+                sent += 7
+            self.rate_pub.publish(UInt16(rng.rng.choice(PUBLISH_RATES)))
+            sent += 1
             if sent % 500 < 10:   # now and then a huge one
                 self.cmd_pub['left'].publish(JointCommand(
                     mode=1, names=['left_s0'] * HUGE_NAMES, command=[1e39] * HUGE_NAMES))

@@ -11,9 +11,14 @@ from baxter_core_msgs.msg import (AnalogIOState, AnalogOutputCommand, AssemblySt
                                   HeadState, NavigatorState)
 from baxter_core_msgs.srv import SolvePositionIK, SolvePositionIKRequest
 from geometry_msgs.msg import Point, Pose, PoseStamped, Quaternion
-from std_msgs.msg import Bool, Header
+from baxter_core_msgs.msg import EndEffectorProperties, EndEffectorState, JointCommand
+from baxter_core_msgs.msg import CollisionAvoidanceState
+from rosgraph_msgs.msg import Log
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Bool, Empty, Header, UInt16
+from trajectory_msgs.msg import JointTrajectoryPoint
 
-from baxter_sim_testing import Latest, publisher
+from baxter_sim_testing import Latest, publisher, warned, warnings
 from waiting import wait_for
 from robopuppet import baxter_description as bd
 
@@ -29,7 +34,9 @@ TOPICS = dict(
     + [('/robot/analog_io/%s_hand_range/state' % side, AnalogIOState)
        for side in ('left', 'right')]
     + [('/robot/analog_io/torso_fan/state', AnalogIOState)]
-    + [('/robot/head/head_state', HeadState)])
+    + [('/robot/head/head_state', HeadState)]
+    + [('/robot/limb/%s/collision_avoidance_state' % side, CollisionAvoidanceState)
+       for side in ('left', 'right')])
 RATE_HZ = 100.0     # Rethink's simulator publishes these at 100 Hz, like joint_states
 
 
@@ -45,12 +52,63 @@ def lit(navigator_state, light):
     return navigator_state.lights[navigator_state.light_names.index(light)]
 
 
-class BaxterSimSdkTest(unittest.TestCase):
+def joint_states_rate_hz(joints, count):
+    """Return the rate (Hz, from header stamps: the node's loop, not this machine's load on
+    the delivery) of the next `count` joint states."""
+    joints.record()
+    wait_for(lambda: len(joints.recorded()) >= count, 30.0, '%d joint states' % count)
+    stamps = [msg.header.stamp.to_sec() for _, msg in joints.stop_recording()]
+    return (len(stamps) - 1) / (stamps[-1] - stamps[0])
+
+
+class RateAndRefusalTests:
+    """Tests of BaxterSimSdkTest: /robot/joint_state_publish_rate as the SDK's wobbler and
+    trajectory server send it, and the feed-forward and custom gripper topics the stand-in
+    refuses, each with its log line."""
+
+    def test_the_joint_state_rate_asked_is_published_up_to_the_loop_rate(self):
+        joints = Latest('/robot/joint_states', JointState)
+        rosout = self.rosout
+        rosout.record()
+        rate = publisher('/robot/joint_state_publish_rate', UInt16)
+        try:
+            rate.publish(UInt16(500))   # the wobbler's: more than the stand-in's loop
+            wait_for(lambda: warned(rosout, '500 Hz asked', 'at 100 Hz'), 10.0,
+                     'the 500 Hz line')
+            self.assertTrue(50.0 < joint_states_rate_hz(joints, 150) < 130.0)
+            rate.publish(UInt16(20))
+            wait_for(lambda: any('now published at 20 Hz' in m.msg
+                                 for _, m in rosout.recorded()), 10.0, 'the 20 Hz line')
+            self.assertTrue(12.0 < joint_states_rate_hz(joints, 40) < 26.0)
+        finally:
+            rate.publish(UInt16(100))
+        wait_for(lambda: any('now published at 100 Hz' in m.msg for _, m in rosout.recorded()),
+                 10.0, 'the rate back at 100 Hz')
+        self.assertTrue(50.0 < joint_states_rate_hz(joints, 150) < 130.0)
+
+    def test_feed_forward_and_custom_gripper_messages_are_refused_with_a_line(self):
+        rosout = self.rosout
+        rosout.record()
+        publisher('/robot/limb/left/inverse_dynamics_command', JointTrajectoryPoint).publish(
+            JointTrajectoryPoint(positions=[0.0] * 7, velocities=[0.0] * 7))
+        gripper = '/robot/end_effector/right_gripper/rsdk/'
+        publisher(gripper + 'set_properties', EndEffectorProperties).publish(
+            EndEffectorProperties(id=131073, ui_type=EndEffectorProperties.PASSIVE_GRIPPER))
+        publisher(gripper + 'set_state', EndEffectorState).publish(EndEffectorState(id=131073))
+        wanted = [('inverse_dynamics_command', 'kinematic'),
+                  ('set_properties', 'custom gripper'), ('set_state', 'custom gripper')]
+        wait_for(lambda: all(warned(rosout, *words) for words in wanted), 10.0,
+                 'a warning for each of %s' % wanted)
+        self.assertEqual(len(warnings(rosout.stop_recording())), 3)
+
+
+class BaxterSimSdkTest(RateAndRefusalTests, unittest.TestCase):
 
     @classmethod
     def setUpClass(cls):
         cls.state = Latest('/robot/state', AssemblyState)
         cls.head = Latest('/robot/head/head_state', HeadState)
+        cls.rosout = Latest('/rosout', Log)
         wait_for(lambda: cls.state.msg and cls.head.msg, 20.0, 'the stand-in to publish')
 
     def test_every_topic_at_the_rate_with_its_type(self):
@@ -147,6 +205,51 @@ class BaxterSimSdkTest(unittest.TestCase):
             solved = dict(zip(answer.joints[0].name, answer.joints[0].position))
             reached, _ = bd.load().pose(solved, bd.gripper_link(side))
             self.assertLess(sum((a - b) ** 2 for a, b in zip(reached, xyz)) ** 0.5, 1e-3)
+
+    def test_a_cuff_squeeze_gives_zero_g_unless_cuff_interaction_is_suppressed(self):
+        # The SDK wiki's Zero-G Mode: the squeeze lets the arm go; suppress_cuff_interaction
+        # (std_msgs/Empty) faster than 5 Hz keeps it under command.
+        rosout = Latest('/rosout', Log)
+        rosout.record()
+        joints = Latest('/robot/joint_states', JointState)
+        enable = publisher('/robot/set_super_enable', Bool)
+        squeeze = publisher('/baxter_sim/digital_input', DigitalOutputCommand)
+        command = publisher('/robot/limb/right/joint_command', JointCommand)
+        suppress = publisher('/robot/limb/right/suppress_cuff_interaction', Empty)
+        enable.publish(True)
+        wait_for(lambda: self.state.msg.enabled and joints.msg, 5.0, 'the robot enabled')
+
+        def said(words, count=1):
+            return count <= sum(words in m.msg for _, m in rosout.recorded()
+                                if m.name == '/baxter_sim')
+
+        def s0():
+            return joints.msg.position[joints.msg.name.index('right_s0')]
+
+        def commanding(done, suppressed=False):
+            def step():
+                command.publish(JointCommand(JointCommand.POSITION_MODE, [start + 0.5],
+                                             ['right_s0']))
+                if suppressed:
+                    suppress.publish(Empty())
+                return done()
+            return step
+        squeeze.publish(DigitalOutputCommand('right_lower_cuff', True))
+        wait_for(lambda: said('right arm: zero-g: cuff squeezed'), 5.0, 'zero-g logged')
+        start = s0()
+        wait_for(commanding(lambda: warned(rosout, 'zero-g', 'right/joint_command')), 5.0,
+                 'the command refused')
+        self.assertAlmostEqual(s0(), start, delta=1e-9)
+        wait_for(commanding(lambda: s0() > start + 0.2, suppressed=True), 5.0,
+                 'the squeezed arm commanded while suppressed')
+        self.assertTrue(said('right arm: cuff interaction suppressed') and said('zero-g ended'))
+        wait_for(lambda: said('right arm: zero-g: cuff squeezed', 2), 5.0,
+                 'zero-g again 0.2 s after the last suppress message')
+        self.assertTrue(said('right arm: cuff interaction suppression lapsed'))
+        squeeze.publish(DigitalOutputCommand('right_lower_cuff', False))
+        wait_for(lambda: said('right arm: zero-g ended', 2), 5.0, 'zero-g ended on release')
+        enable.publish(False)    # as found: a later enable must not come to an enabled robot
+        wait_for(lambda: not self.state.msg.enabled, 5.0, 'the robot disabled again')
 
 
 if __name__ == '__main__':

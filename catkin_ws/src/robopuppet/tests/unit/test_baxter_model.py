@@ -188,17 +188,17 @@ def test_bad_commands_are_dropped_whole(mode, names, values, reason):
 def test_commands_carrying_nothing_usable_neither_restart_the_timeout_nor_switch_mode(
         names, values):
     model = enabled_model()
-    model.joint_command('left', POSITION_MODE, ['left_s0'], [1.5], 0.0)
+    model.joint_command('left', RAW_POSITION_MODE, ['left_s0'], [1.5], 0.0)
     t = 0.0
     while t < 3.0:
         with pytest.raises(CommandError):
-            model.joint_command('left', RAW_POSITION_MODE, names, values, t)
+            model.joint_command('left', POSITION_MODE, names, values, t)
         t = round(t + DT, 9)
         model.step(t)
     arm = model.arms['left']
-    assert arm.mode == POSITION_MODE
-    # Followed for the 0.2 s timeout only (mode 1 at 0.3 x 1.5 rad/s at most), then held.
-    assert 0.0 < arm.positions['left_s0'] <= 0.3 * 1.5 * 0.2 + 1e-9
+    assert arm.mode == RAW_POSITION_MODE   # mode 1 would have gone on to the target (no timeout)
+    # Followed for the 0.2 s timeout only (mode 4 at 1.5 rad/s at most), then held.
+    assert 0.0 < arm.positions['left_s0'] <= 1.5 * 0.2 + 1e-9
     assert arm.velocities['left_s0'] == 0.0
 
 

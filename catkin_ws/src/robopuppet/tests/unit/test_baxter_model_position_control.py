@@ -1,7 +1,8 @@
 """Tests of robopuppet.baxter_sim.baxter_model's position control (modes 1 and 4): the model of
 Baxter's joint position controller that arm_X's keep-out zones rely on (docs/baxter_sim.md, "How
 the arms move"): per-joint speed caps, speed ratio, joints independent, monotone approach with no
-overshoot, hold on the command timeout, joint limits."""
+overshoot, mode 1 going on to its last target and mode 4 holding on the command timeout,
+joint limits."""
 import random
 
 import pytest
@@ -123,6 +124,12 @@ def test_joints_move_independently(mode, seconds):
                 [cap * LIMITS[name].velocity] * len(moves)), name
 
 
+def timed_out(arm, t, last_command_s):
+    """Return whether the arm holds at t: mode 4 with commands older than the timeout (mode 1
+    has no timeout)."""
+    return arm.mode == RAW_POSITION_MODE and t >= last_command_s + DEFAULT_COMMAND_TIMEOUT_S
+
+
 def random_sequence_holds_the_hull(seed):
     """Run a seeded random command sequence, checking every joint after every move (up to a
     command's arrival, and each step). Return how many joint moves were checked."""
@@ -160,7 +167,7 @@ def random_sequence_holds_the_hull(seed):
             names = rng.sample(LEFT, rng.randint(1, 7))
             values = [rng.uniform(LIMITS[n].lower - 1.0, LIMITS[n].upper + 1.0) for n in names]
             before, mode, dt = dict(arm.positions), arm.mode, rng.uniform(0.0, 0.02)
-            held = t >= last_command_s + DEFAULT_COMMAND_TIMEOUT_S
+            held = timed_out(arm, t, last_command_s)
             t += dt
             model.joint_command('left', rng.choice([POSITION_MODE, RAW_POSITION_MODE]), names,
                                 values, t)
@@ -171,7 +178,7 @@ def random_sequence_holds_the_hull(seed):
             last_command_s = t
         if rng.random() < 0.1:
             model.set_speed_ratio('left', rng.choice([0.0, 1.0, rng.random()]))
-        before, held = dict(arm.positions), t >= last_command_s + DEFAULT_COMMAND_TIMEOUT_S
+        before, held = dict(arm.positions), timed_out(arm, t, last_command_s)
         dt = rng.choice([0.001, 0.01, 0.01, 0.03, DEFAULT_COMMAND_TIMEOUT_S, rng.uniform(0, 0.5)])
         t += dt
         model.step(t)
@@ -184,12 +191,29 @@ def test_every_joint_stays_between_where_its_target_came_and_the_target():
     joints, modes 1 and 4, speed ratios (0 too), step lengths (past the timeout too) and
     commands arriving mid-motion between steps. At every step every joint lies within the hull
     of its position when its current target came and that target, never moves away from the
-    target, moves at most at its cap, and holds once commands are older than the timeout."""
+    target, moves at most at its cap, and in mode 4 holds once commands are older than the
+    timeout."""
     assert sum(random_sequence_holds_the_hull(seed) for seed in range(120)) > 100000
 
 
-@pytest.mark.parametrize('mode', [POSITION_MODE, RAW_POSITION_MODE])
-def test_on_the_command_timeout_the_arm_stops_where_it_is_and_does_not_finish(mode):
+def test_mode_1_has_no_command_timeout_it_goes_on_to_its_last_target():
+    """As a real Baxter, which finishes the move of tuck_arms.py -t after its last command
+    (docs/baxter_sim.md, "How the arms move")."""
+    model = enabled_model(1.0)
+    model.joint_command('left', POSITION_MODE, list(FAR), list(FAR.values()), 0.0)
+    arm, t, trace = model.arms['left'], 0.0, []
+    while t < 5.0:   # one command only, then none: far past the timeout
+        t = round(t + DT, 9)
+        model.step(t)
+        trace.append(dict(arm.positions))
+    for name in LEFT:
+        assert trace[-1][name] == pytest.approx(FAR[name], abs=1e-6), name
+        moves = [abs(b[name] - a[name]) for a, b in zip(trace, trace[1:])]
+        assert max(moves) <= LIMITS[name].velocity * DT * (1 + 1e-9), name
+
+
+def test_mode_4_on_the_command_timeout_the_arm_stops_where_it_is_and_does_not_finish():
+    mode = RAW_POSITION_MODE
     model = enabled_model(1.0)
     model.joint_command('left', mode, list(FAR), list(FAR.values()), 0.0)
     arm, t, trace = model.arms['left'], 0.0, []
@@ -203,10 +227,8 @@ def test_on_the_command_timeout_the_arm_stops_where_it_is_and_does_not_finish(mo
         assert abs(at_timeout[name] - FAR[name]) > 0.5, name             # ... far from there
         assert trace[-1][name] == at_timeout[name], name                 # and stopped there
         assert arm.velocities[name] == 0.0
-    if mode == RAW_POSITION_MODE:   # at the velocity limit for exactly the timeout
-        for name in LEFT:
-            assert abs(at_timeout[name] - NEUTRAL[name]) == pytest.approx(
-                LIMITS[name].velocity * DEFAULT_COMMAND_TIMEOUT_S), name
+        assert abs(at_timeout[name] - NEUTRAL[name]) == pytest.approx(   # at the velocity
+            LIMITS[name].velocity * DEFAULT_COMMAND_TIMEOUT_S), name     # limit for the timeout
     # The hold lasts: a later step of any length moves nothing; a fresh command moves again.
     model.step(10.0)
     assert arm.positions == trace[-1]

@@ -23,14 +23,17 @@ def test_every_io_component_and_the_head_publish_once_with_a_known_type():
     names = [topic for topic, _ in published]
     assert len(names) == len(set(names)) == (
         len(bio.DIGITAL_INPUTS + bio.DIGITAL_OUTPUTS + bio.NAVIGATORS + bio.ANALOG_INPUTS
-            + bio.ANALOG_OUTPUTS) + 1)
+            + bio.ANALOG_OUTPUTS) + 1 + 2)   # + the head, each arm's collision avoidance
     assert all(get_message_class(kind) is not None for _, kind in published)
     assert (interface.HEAD_STATE, 'baxter_core_msgs/HeadState') in published
+    assert ('/robot/limb/left/collision_avoidance_state',
+            'baxter_core_msgs/CollisionAvoidanceState') in published
 
 
 def test_each_subscription_feeds_a_method_the_arguments_it_takes():
     rows = topics.subscriptions()
-    assert len({row.topic for row in rows}) == len(rows) == 8 + 2 * 4
+    # 9 robot topics (+ publish rate); per arm 4 + feed-forward, rsdk x2, suppress x2
+    assert len({row.topic for row in rows}) == len(rows) == 9 + 2 * 9
     for row in rows:
         kind = get_message_class(row.kind)
         assert set(row.fields) <= set(kind.__slots__), row.topic

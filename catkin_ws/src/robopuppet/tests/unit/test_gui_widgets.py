@@ -145,6 +145,12 @@ def test_teleop_and_serial_link(window, client):
     link = tab.link_label.text()
     assert 'ERROR' in link and 'no data for 3 s' in link and 'frames dropped: 12' in link
     assert look.RED in tab.link_label.styleSheet()
+    # A link that is well shows its key values in the tooltip only: the box stays short.
+    client.state.on_link(state.Link(0, 'serial_R: /dev/pts/3', 'link up',
+                                    (('port', '/dev/pts/3'), ('settings loaded', 'True')), 99.0))
+    window.frame()
+    assert 'link up' in tab.link_label.text() and 'port' not in tab.link_label.text()
+    assert tab.link_label.toolTip() == 'port: /dev/pts/3\nsettings loaded: True'
 
 
 def test_each_opmode_radio_publishes_its_mode(qtbot, window, client):

@@ -11,7 +11,11 @@ import collections
 
 from robopuppet import interface
 from robopuppet.baxter_description import BASE_FRAME
+from robopuppet.baxter_sim import baxter_statics as statics
+from robopuppet.baxter_sim import baxter_collision as collision
+from robopuppet.baxter_sim.baxter_feed_forward import check_feed_forward
 from robopuppet.baxter_sim.baxter_ik import ArmIK
+from robopuppet.baxter_sim.baxter_publish_rate import JointStateRate
 from robopuppet.baxter_sim.baxter_refusals import CommandError, RefusalThrottle, brief
 from robopuppet.interface import BAXTER_SIDES
 
@@ -31,12 +35,16 @@ Reply = collections.namedtuple('Reply', 'warning change')
 Reply.__doc__ = """What a command leads to: `warning` a refusal line to log (None: taken, or
 refused too recently to log again); `change` an enable-state change to log, after which
 /robot/state must be published (None: no change)."""
-Cycle = collections.namedtuple('Cycle', 'joints poses grippers state_due io')
+# No endpoints: twist and wrench 0; no notes: nothing to log.
+Cycle = collections.namedtuple('Cycle', 'joints poses grippers state_due io endpoints notes',
+                               defaults=(None, ()))
 Cycle.__doc__ = """One publishing cycle: `joints` (names, positions rad or m, velocities rad/s or
-m/s, efforts), `poses` {side: ((x, y, z) m, (qx, qy, qz, qw)) of the gripper in base},
+m/s, efforts N m; None on a cycle without /robot/joint_states), `poses` {side: ((x, y, z)
+m, (qx, qy, qz, qw)) of the gripper in base},
 `grippers` {side: EndEffectorState fields but the timestamp}, `state_due` (publish /robot/state
 too), `io` {topic: fields} of every baxter_topics.io_publications() topic (AnalogIOState's
-timestamp is the node's)."""
+timestamp is the node's), `endpoints` {side: baxter_statics.Endpoint}: twist and wrench,
+`notes` lines to log (baxter_collision's suppressions and zero-g, as they change)."""
 
 
 def bool_param(name, value):
@@ -86,22 +94,37 @@ class BaxterApi:
         model: a baxter_model.BaxterModel.
         command_timeout_s: both arms' joint command timeout (s, > 0) until a message sets it.
         warn_interval_s: the refusal log's interval per topic and reason (s).
+        loop_rate_hz: the node's publishing loop's rate (Hz), the joint states' most.
     """
 
-    def __init__(self, model, command_timeout_s, warn_interval_s=WARN_INTERVAL_S):
+    def __init__(self, model, command_timeout_s, warn_interval_s=WARN_INTERVAL_S,
+                 loop_rate_hz=100.0):
         self.model = model
         for side in BAXTER_SIDES:
             model.set_command_timeout(side, command_timeout_s)
         self.warn_interval_s = warn_interval_s
         self._throttle = RefusalThrottle(warn_interval_s)
         self.ik = {side: ArmIK(model.description, side) for side in BAXTER_SIDES}
+        self.statics = {side: statics.ArmStatics(model.description, side)
+                        for side in BAXTER_SIDES}
+        self.joint_rate = JointStateRate(loop_rate_hz)
+        self.safety = collision.RobotSafety()
         self._cycles = 0
 
     # -- commands --
     def joint_command(self, topic, side, mode, names, values, now_s, wall_s):
-        """A JointCommand (mode, joint names, targets rad) for one arm, received at now_s."""
-        return self._apply(topic, wall_s, self.model.joint_command, side, mode, names, values,
-                           now_s)
+        """A JointCommand (mode, joint names, targets rad) for one arm, received at now_s;
+        refused ('zero-g') while the arm's cuff holds it in zero-g."""
+        return self._apply(topic, wall_s, self.safety.joint_command, self.model, side, mode,
+                           names, values, now_s)
+
+    def suppress_collision_avoidance(self, topic, side, now_s, wall_s):
+        """A suppress_collision_avoidance (Empty) at now_s (baxter_collision)."""
+        return self._apply(topic, wall_s, self.safety.suppress, side, 'collision_avoidance', now_s)
+
+    def suppress_cuff_interaction(self, topic, side, now_s, wall_s):
+        """A suppress_cuff_interaction (Empty) at now_s: a squeeze gives no zero-g."""
+        return self._apply(topic, wall_s, self.safety.suppress, side, 'cuff_interaction', now_s)
 
     def speed_ratio(self, topic, side, ratio, wall_s):
         """A set_speed_ratio (0..1) for one arm."""
@@ -120,6 +143,26 @@ class BaxterApi:
                 % (brief(command), hardware_id, GRIPPER_ID), 'wrong id'), wall_s), None)
         return self._apply(topic, wall_s, self.model.gripper_command, side, command, args,
                            sender, sequence)
+
+    def publish_rate(self, topic, rate_hz, wall_s):
+        """A joint_state_publish_rate (Hz): see baxter_publish_rate.JointStateRate.request."""
+        try:
+            return Reply(None, self.joint_rate.request(rate_hz))
+        except CommandError as error:
+            return Reply(self._refused(topic, error, wall_s), None)
+
+    def inverse_dynamics(self, topic, side, positions, velocities, accelerations, wall_s):
+        """An inverse_dynamics_command (the trajectory action server's feed-forward): refused,
+        the stand-in is kinematic (its position control tracks without feed-forward)."""
+        return Reply(self._refused(topic, check_feed_forward(
+            side, positions, velocities, accelerations), wall_s), None)
+
+    def custom_gripper(self, topic, side, hardware_id, wall_s):
+        """An rsdk/set_properties or rsdk/set_state: refused, the gripper is electric."""
+        return Reply(self._refused(topic, CommandError(
+            '%s gripper: id %d ignored: an electric gripper\'s properties and state are the '
+            'robot\'s; only a custom gripper takes them from the SDK' % (side, hardware_id),
+            'electric gripper'), wall_s), None)
 
     def digital_output(self, topic, name, value, wall_s):
         """A DigitalOutputCommand: switch an output (a navigator light)."""
@@ -208,13 +251,20 @@ class BaxterApi:
     def cycle(self, now_s):
         """Advance the model to now_s (ROS time, s) and return what this cycle publishes."""
         model = self.model
+        self.safety.hold_zero_g(model, now_s)
         model.step(now_s)
+        notes = self.safety.changes(model, now_s)
         self._cycles += 1
-        return Cycle(model.joint_state(),
+        endpoints = {side: statics.arm_endpoint(self.statics[side], model.arms[side])
+                     for side in BAXTER_SIDES}
+        joints = statics.with_gravity(model.joint_state(), model.arms, endpoints,
+                                      model.enabled) if self.joint_rate.due(now_s) else None
+        return Cycle(joints,
                      {side: model.endpoint_pose(side) for side in BAXTER_SIDES},
                      {side: gripper_state(model.grippers[side], model.enabled)
                       for side in BAXTER_SIDES},
-                     self._cycles % STATE_EVERY_N_CYCLES == 0, self._io_states())
+                     self._cycles % STATE_EVERY_N_CYCLES == 0, self._io_states(), endpoints,
+                     notes)
 
     def _io_states(self):
         io = self.model.io
@@ -224,6 +274,7 @@ class BaxterApi:
         states.update((interface.analog_io_state_topic(n), f)
                       for n, f in self.model.analog.states().items())
         states[interface.HEAD_STATE] = self.model.head.state()
+        states.update(self.safety.states())
         return states
 
 

@@ -11,8 +11,10 @@ rely on (docs/baxter_sim.md, "How the arms move"): in modes 1 and 4 each joint m
 from where it is straight toward its current target (clamped to its limits), never past it, at
 most at its speed: mode 1 speed_ratio x its URDF velocity limit (a first-order lag of
 SMOOTHING_TIME_S under that cap), mode 4 the velocity limit. A new target starts a new such move
-from wherever the joint is; no command for command_timeout_s holds the arm where it is. So a
-joint always lies between where it was when its target came and that target.
+from wherever the joint is. Mode 1 has no command timeout: the arm goes on to its last target
+(as a real Baxter finishes tuck_arms' move); in modes 2, 3 and 4 no command for command_timeout_s
+holds the arm where it is. So a joint always lies between where it was when its target came and
+that target.
 """
 import math
 
@@ -90,13 +92,16 @@ class Arm:
         self.last_command_s = now_s
 
     def step(self, now_s):
-        """Move toward the targets until now_s; hold once commands are older than the timeout."""
+        """Move toward the targets until now_s. Mode 1 goes on to its last target; in the other
+        modes the arm holds once commands are older than the timeout."""
         dt = now_s - self.last_step_s
         if dt <= 0.0:
             return
         self.last_step_s = now_s
         active_s = 0.0
-        if self.last_command_s is not None:
+        if self.last_command_s is not None and self.mode == POSITION_MODE:
+            active_s = dt
+        elif self.last_command_s is not None:
             deadline_s = self.last_command_s + self.command_timeout_s
             active_s = max(0.0, min(dt, deadline_s - (now_s - dt)))
             if now_s >= deadline_s:
@@ -190,11 +195,9 @@ class BaxterModel:
         self.stopped = True
 
     def reset(self):
-        """Clear the stopped latch; the robot stays disabled.
-
-        Rethink's reset also clears the joints' hardware faults, which this model has none of.
-        Gripper errors are left alone: on Baxter the gripper's own 'reset' command clears them.
-        """
+        """Clear the stopped latch; the robot stays disabled. Gripper errors stay (on Baxter the
+        gripper's own 'reset' command clears them); the joints' hardware faults that Rethink's
+        reset also clears are not modelled."""
         self.set_enabled(False)
         self.stopped = False
 
@@ -225,7 +228,7 @@ class BaxterModel:
         self._arm(side).speed_ratio = min(1.0, max(0.0, finite(ratio, 'speed ratio')))
 
     def set_command_timeout(self, side, timeout_s):
-        """Set how long the arm follows its last command before holding (s, > 0)."""
+        """Set how long the arm follows its last command before holding (s, > 0; modes 2-4)."""
         timeout_s = finite(timeout_s, 'joint command timeout')
         if timeout_s <= 0.0:
             raise CommandError('joint command timeout must be > 0 s, got %g' % timeout_s,
@@ -273,8 +276,8 @@ class BaxterModel:
 
         Names are every movable URDF joint plus torso_t0, sorted. Effort (N m) is the torque a
         torque-mode command applies on top of gravity compensation, or a blocked joint's press
-        on an obstacle (Arm._touch), else 0: the URDF carries no masses, so the model knows no
-        gravity torques.
+        on an obstacle (Arm._touch), else 0: the efforts beyond gravity (BaxterApi.cycle adds
+        the gravity torques of baxter_statics).
         """
         positions = self.positions()
         velocities = dict.fromkeys(positions, 0.0)

@@ -49,4 +49,4 @@ def api_from_params():
     calibrated = _param('~gripper_calibrated', False, api.bool_param)
     model = BaxterModel(description, rospy.get_time(), gripper_calibrated=calibrated,
                         contacts=contacts(description, text))
-    return api.BaxterApi(model, timeout_s), rate_hz
+    return api.BaxterApi(model, timeout_s, loop_rate_hz=rate_hz), rate_hz

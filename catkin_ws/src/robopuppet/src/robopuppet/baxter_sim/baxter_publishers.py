@@ -6,7 +6,7 @@ import functools
 
 import rospy
 from baxter_core_msgs.msg import EndEffectorProperties, EndEffectorState, EndpointState
-from geometry_msgs.msg import Point, Pose, Quaternion
+from geometry_msgs.msg import Point, Pose, Quaternion, Twist, Vector3, Wrench
 from roslib.message import get_message_class
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Header
@@ -19,9 +19,11 @@ from robopuppet.interface import BAXTER_SIDES
 class CyclePublishers:
     """Publish each cycle's states; latch the grippers' properties once, at construction.
 
-    Publishes: /robot/joint_states, /robot/limb/<side>/endpoint_state (frame base),
+    Publishes: /robot/joint_states (at the joint_state_publish_rate),
+    /robot/limb/<side>/endpoint_state (frame base; twist and wrench of baxter_statics),
     /robot/end_effector/<side>_gripper/state and properties (latched), and every
-    baxter_topics.io_publications() topic.
+    baxter_topics.io_publications() topic (each arm's collision_avoidance_state too). Logs
+    (info) each cycle's notes: suppressions and zero-g as they change.
     """
 
     def __init__(self):
@@ -39,17 +41,24 @@ class CyclePublishers:
 
     def publish(self, cycle, stamp):
         """Publish a baxter_api.Cycle's states (but /robot/state), stamped `stamp` (rospy.Time)."""
-        names, positions, velocities, efforts = cycle.joints
-        self.joints.publish(JointState(Header(stamp=stamp), names, positions, velocities,
-                                       efforts))
+        if cycle.joints is not None:   # None: not due at the joint_state_publish_rate
+            self.joints.publish(JointState(Header(stamp=stamp), *cycle.joints))
         for side, (xyz, quaternion) in cycle.poses.items():
+            twist, wrench = ((cycle.endpoints[side].twist, cycle.endpoints[side].wrench)
+                             if cycle.endpoints else ((0.0,) * 6, (0.0,) * 6))
             self.endpoints[side].publish(EndpointState(
                 header=Header(stamp=stamp, frame_id=bd.BASE_FRAME),
-                pose=Pose(Point(*xyz), Quaternion(*quaternion))))
+                pose=Pose(Point(*xyz), Quaternion(*quaternion)),
+                twist=Twist(Vector3(*twist[:3]), Vector3(*twist[3:])),
+                wrench=Wrench(Vector3(*wrench[:3]), Vector3(*wrench[3:]))))
         for side, fields in cycle.grippers.items():
             self.grippers[side].publish(EndEffectorState(timestamp=stamp, **fields))
         for topic, fields in cycle.io.items():
             kind = self.io[topic].data_class
             if 'timestamp' in kind.__slots__:
                 fields = dict(fields, timestamp=stamp)
+            elif 'header' in kind.__slots__:   # CollisionAvoidanceState
+                fields = dict(fields, header=Header(stamp=stamp))
             self.io[topic].publish(kind(**fields))
+        for line in cycle.notes:   # baxter_collision's suppressions and zero-g, as they change
+            rospy.loginfo('%s', line)

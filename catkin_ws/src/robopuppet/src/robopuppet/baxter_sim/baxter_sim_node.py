@@ -31,9 +31,9 @@ class BaxterSimNode:
 
     ROS API (docs/baxter_sim.md has the types and units):
       Subscribes: /robot/set_super_enable, _reset, _stop; /robot/limb/<side>/joint_command,
-        set_speed_ratio, joint_command_timeout; /robot/end_effector/<side>_gripper/command;
-        digital and analog outputs, head pan and nod, /baxter_sim/digital_input (baxter_topics).
-      Publishes every cycle: /robot/joint_states, /robot/limb/<side>/endpoint_state (frame base),
+        set_speed_ratio, joint_command_timeout, inverse_dynamics_command; the grippers' command,
+        rsdk/set_*; IO, head, joint_state_publish_rate, /baxter_sim/digital_input (baxter_topics).
+      Publishes every cycle: /robot/joint_states (or at its publish rate), endpoint_state (base),
         /robot/end_effector/<side>_gripper/state and every baxter_topics.io_publications() topic
         (baxter_publishers); /robot/state (latched, rate_hz/5 and on change), gripper properties
         (latched).

@@ -5,7 +5,7 @@ Pure: names (from interface.py) and message type names only.
 import collections
 
 from robopuppet import interface
-from robopuppet.baxter_sim import baxter_io as bio
+from robopuppet.baxter_sim import baxter_collision as collision, baxter_io as bio
 from robopuppet.interface import BAXTER_SIDES
 
 # The IO states published every cycle: (state topic of a name, message type, the names).
@@ -19,9 +19,12 @@ IO_STATES = (
 
 
 def io_publications():
-    """Return [(topic, message type)] of every IO and head state, published every cycle."""
+    """Return [(topic, message type)] of every IO and head state and each arm's collision
+    avoidance state, published every cycle."""
     return ([(topic(name), kind) for topic, kind, names in IO_STATES for name in names]
-            + [(interface.HEAD_STATE, 'baxter_core_msgs/HeadState')])
+            + [(interface.HEAD_STATE, 'baxter_core_msgs/HeadState')]
+            + [(interface.collision_avoidance_state_topic(side),
+                'baxter_core_msgs/CollisionAvoidanceState') for side in BAXTER_SIDES])
 
 
 Subscription = collections.namedtuple('Subscription', 'topic kind method side fields timed')
@@ -46,7 +49,9 @@ def subscriptions():
             Subscription(interface.HEAD_PAN_COMMAND, msgs + 'HeadPanCommand', 'head_pan', None,
                          ('target', 'speed_ratio', 'enable_pan_request'), False),
             Subscription(interface.HEAD_NOD_COMMAND, 'std_msgs/Bool', 'head_nod', None,
-                         ('data',), False)]
+                         ('data',), False),
+            Subscription(interface.JOINT_STATE_PUBLISH_RATE, 'std_msgs/UInt16', 'publish_rate',
+                         None, ('data',), False)]
     for side in BAXTER_SIDES:
         limb = interface.limb_topic
         rows += [
@@ -58,5 +63,15 @@ def subscriptions():
                          'command_timeout', side, ('data',), False),
             Subscription(interface.baxter_gripper_topic(side, 'command'),
                          msgs + 'EndEffectorCommand', 'gripper_command', side,
-                         ('id', 'command', 'args', 'sender', 'sequence'), False)]
+                         ('id', 'command', 'args', 'sender', 'sequence'), False),
+            Subscription(limb(side, 'inverse_dynamics_command'),
+                         'trajectory_msgs/JointTrajectoryPoint', 'inverse_dynamics', side,
+                         ('positions', 'velocities', 'accelerations'), False)]
+        rows += [Subscription(interface.baxter_gripper_topic(side, 'rsdk/set_' + what),
+                              msgs + kind, 'custom_gripper', side, ('id',), False)
+                 for what, kind in (('properties', 'EndEffectorProperties'),
+                                    ('state', 'EndEffectorState'))]
+        rows += [Subscription(interface.suppress_topic(side, behaviour), 'std_msgs/Empty',
+                              'suppress_' + behaviour, side, (), True)
+                 for behaviour in collision.BEHAVIOURS]
     return rows

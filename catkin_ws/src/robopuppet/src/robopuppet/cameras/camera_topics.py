@@ -53,6 +53,12 @@ class CameraTopics:
         self._info.header.stamp, self._info.header.frame_id = stamp, frame_id
         self._info_pub.publish(self._info)
 
+    def unregister(self):
+        """Withdraw the topics (a closed Baxter camera has none)."""
+        for pub in (self._raw, self._packed, self._info_pub):
+            if pub is not None:
+                pub.unregister()
+
 
 def broadcast_fixed_frames(poses):
     """Send {frame: 4x4 pose in Baxter's base frame} on /tf_static; return the broadcaster,

@@ -10,22 +10,23 @@ from sensor_msgs.msg import JointState
 from visualization_msgs.msg import MarkerArray
 
 from robopuppet import baxter_description as bd, interface, shape_markers
-from robopuppet.cameras import camera_topics, node_loops, scene, sim_cameras
+from robopuppet.cameras import camera_services, camera_topics, node_loops, scene, sim_cameras
 from robopuppet.cameras.frame_rates import FrameRates
 from robopuppet.world import obstacles as obstacle_files
 
 
 class SimCameraNode:
-    """Render each camera that someone watches at ~rate; publish nothing for the others.
+    """Render each streaming camera that someone watches, at its rate; publish nothing else.
 
-    A camera is rendered only while its image or image/compressed topic has a subscriber, not
-    before the first good joint state, and again only when the joint positions changed (still
-    positions give the same pixels, which are published again with a new stamp). Garbage joint
-    states are logged (throttled) and ignored; a failed frame is logged and the next one comes
-    as usual.
+    Baxter's cameras stream while open (the hand cameras from the start at ~width x ~height and
+    ~rate; /cameras/list, open and close: camera_services), room cameras always. A camera is
+    rendered only while its image or image/compressed has a subscriber, not before the first
+    good joint state, and again only when the joints moved (the same frame is published again
+    with a new stamp). Garbage joint states are logged (throttled) and ignored; a failed frame
+    is logged and the next one comes as usual.
 
     Subscribes: /robot/joint_states (sensor_msgs/JointState).
-    Publishes, per camera <name> of ~cameras, with one stamp per frame:
+    Publishes, per streaming camera <name> of ~cameras, with one stamp per frame:
         /cameras/<name>/image (sensor_msgs/Image, bgr8), /cameras/<name>/image/compressed
         (sensor_msgs/CompressedImage, JPEG, format jpeg.JPEG_FORMAT), /cameras/<name>/camera_info
         (sensor_msgs/CameraInfo: an ideal pinhole matching the image; frame_id the URDF's
@@ -47,9 +48,7 @@ class SimCameraNode:
     def __init__(self, settings, core):
         self.settings, self.core = settings, core
         self._name = rospy.get_name()
-        self._topics = {name: camera_topics.CameraTopics(
-            name, sim_cameras.camera_info_fields(camera, settings.width, settings.height), True)
-            for name, camera in core.cameras.items()}
+        self._services = camera_services.CameraServices(core, settings)
         self._lock = threading.Lock()  # _joints, between the callback and the render loop
         self._joints = None
         self._rates = FrameRates([(name, what) for name in core.cameras
@@ -60,15 +59,19 @@ class SimCameraNode:
 
     def run(self):
         """Render and publish until shutdown."""
-        node_loops.spin('render', self.settings.rate_hz, self._tick, self._diagnose)
+        node_loops.spin('render', camera_services.loop_rate_hz(self.settings), self._tick,
+                        self._diagnose)
 
     def _on_joints(self, msg):
         with self._lock:
             self._joints = (list(msg.name), list(msg.position))
 
     def _tick(self):
-        watched = {n: topics.watched() for n, topics in self._topics.items()}
-        watched = {n: ways for n, ways in watched.items() if any(ways)}
+        with self._services.lock:  # a service call changes the topics
+            self._frame(self._services.topics(time.monotonic()))
+
+    def _frame(self, due):
+        watched = {n: ways for n, ways in ((n, t.watched()) for n, t in due.items()) if any(ways)}
         if not watched:
             return
         with self._lock:
@@ -89,7 +92,7 @@ class SimCameraNode:
             raw, packed, new = self.core.encode(name, raw, packed, self.settings.quality)
             if new:
                 self._rates.add((name, 'rendered'))
-            self._topics[name].publish(stamp, self.core.cameras[name].frame_id, raw, packed)
+            due[name].publish(stamp, self.core.cameras[name].frame_id, raw, packed)
             self._rates.add((name, 'published'))
 
     def _diagnose(self):

@@ -137,13 +137,13 @@ class SimCameras:
     """Render the stand-in's world from each camera for the newest joint positions.
 
     A camera's image is rendered again only after the positions changed: the same positions
-    give the same pixels. render() makes the OpenGL context on its first call: call it from one
-    thread only.
+    give the same pixels. render() makes a renderer (an OpenGL context) for each image size on
+    its first use: call it from one thread only.
 
     Args:
         urdf_text: the robot description (joints, camera frames, visual shapes).
         world: a scene.World (floor, shapes, fixed cameras).
-        width, height: pixels of every image.
+        width, height: pixels of every image until set_size changes a camera's.
         names: the cameras to render (see make_cameras).
         obstacles, zones: lists of world.shapes.Shapes, drawn opaque orange-ish and translucent red.
         renderer_factory(width, height): makes the renderer (gl_renderer.Renderer).
@@ -155,7 +155,9 @@ class SimCameras:
                  renderer_factory=None):
         self.width, self.height = width, height
         self.robot = robot_shapes.RobotMesh(urdf_text)
+        self._world = world
         self.cameras = make_cameras(names, world, width, height)
+        self.sizes = {name: (width, height) for name in self.cameras}  # (width, height) px
         missing = [c.link for c in self.cameras.values()
                    if c.link is not None and c.link not in self.robot.poser.reachable()]
         if missing:
@@ -165,10 +167,10 @@ class SimCameras:
             + [scene.shape_mesh(s, default=OBSTACLE_COLOUR) for s in obstacles])
         self._zones_mesh = meshes.merged(scene.shape_mesh(s) for s in zones)
         self._factory = renderer_factory
-        self._renderer = None
+        self._renderers = {}  # (width, height) -> (renderer, version of the robot it has)
         self._positions = {}
         self.version = 0  # counts changes of the positions
-        self._posed_version, self._link_poses = None, None
+        self._posed_version, self._robot_mesh, self._link_poses = None, None, None
         self._images = {}  # camera name -> (version, image)
         self._frames = {}  # camera name -> (version, raw bytes or None, JPEG bytes or None)
 
@@ -181,11 +183,17 @@ class SimCameras:
             self.version += 1
         return bool(changed)
 
+    def set_size(self, name, width, height):
+        """Make a camera's images width x height pixels from its next render() on (its
+        intrinsics scale with the width, as make_cameras gives them)."""
+        self.cameras[name] = make_cameras([name], self._world, width, height)[name]
+        self.sizes[name] = (width, height)
+        self._images.pop(name, None)
+        self._frames.pop(name, None)
+
     def _pose_robot(self):
         if self._posed_version != self.version:
-            mesh, self._link_poses = self.robot.posed(self._positions)
-            if self._renderer is not None:
-                self._renderer.set_robot(mesh)
+            self._robot_mesh, self._link_poses = self.robot.posed(self._positions)
             self._posed_version = self.version
 
     def camera_pose(self, name):
@@ -204,16 +212,21 @@ class SimCameras:
         version, image = self._images.get(name, (None, None))
         if version == self.version:
             return image, version
-        if self._renderer is None:
+        size = self.sizes[name]
+        if size not in self._renderers:
             if self._factory is None:
                 from robopuppet.cameras import gl_renderer  # OpenGL only where it renders
                 self._factory = gl_renderer.Renderer
-            self._renderer = self._factory(self.width, self.height)
-            self._renderer.set_world(self._world_mesh)
-            self._renderer.set_zones(self._zones_mesh, ZONE_RGBA)
-            self._posed_version = None  # the new renderer has no robot yet
+            renderer = self._factory(*size)
+            renderer.set_world(self._world_mesh)
+            renderer.set_zones(self._zones_mesh, ZONE_RGBA)
+            self._renderers[size] = (renderer, None)  # no robot yet
         self._pose_robot()
-        image = self._renderer.render(self.camera_pose(name), self.cameras[name].k)
+        renderer, robot_version = self._renderers[size]
+        if robot_version != self.version:
+            renderer.set_robot(self._robot_mesh)
+            self._renderers[size] = (renderer, self.version)
+        image = renderer.render(self.camera_pose(name), self.cameras[name].k)
         self._images[name] = (self.version, image)
         return image, self.version
 
@@ -235,8 +248,8 @@ class SimCameras:
         return raw_bytes if raw else None, jpeg_bytes if packed else None, new
 
     def close(self):
-        """Release the renderer (a later render() makes a new one)."""
-        if self._renderer is not None:
-            self._renderer.close()
-            self._renderer = None
-            self._images.clear()
+        """Release the renderers (a later render() makes new ones)."""
+        for renderer, _ in self._renderers.values():
+            renderer.close()
+        self._renderers.clear()
+        self._images.clear()

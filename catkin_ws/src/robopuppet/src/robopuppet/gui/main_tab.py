@@ -14,7 +14,8 @@ from robopuppet.gui.recording_box import RecordingBox
 LINK_STALE_S = link_view.SERIAL_STALE_S  # diagnostics older than this are shown as not updating
 
 STATUS_COLOUR = dict(zip(interface.ENC_STATUS, (GREEN, RED, AMBER)))
-LINK_LEVEL = {0: ('OK', GREEN), 1: ('WARN', AMBER), 2: ('ERROR', RED), 3: ('STALE', GREY)}
+LINK_LEVEL = {link_view.OK: ('OK', GREEN), link_view.WARN: ('WARN', AMBER),
+              link_view.ERROR: ('ERROR', RED), 3: ('STALE', GREY)}
 TELEOP_COLOUR = {interface.CALIBRATING: AMBER, interface.READY: BLUE, interface.FOLLOWING: GREEN,
                  interface.FAULT: RED}
 GRIPPER_NAMES = ('gripper 0', 'gripper 1', 'gripper 2', 'end piece')
@@ -289,7 +290,10 @@ class MainTab(QtWidgets.QWidget):
         if old > LINK_STALE_S:
             text += '   (no update for %.0f s)' % old
             colour = GREY
-        if link.values:
+        # Every key value in the tooltip; on the box (narrow, its height bounded) only when the
+        # link is not OK, when they say what went wrong.
+        self.link_label.setToolTip('\n'.join('%s: %s' % kv for kv in link.values))
+        if link.values and link.level != link_view.OK:
             text += '\n' + '   '.join('%s: %s' % kv for kv in link.values)
         self.link_label.setText(text)
         paint(self.link_label, colour)
