@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Install RoboPuppet's Debian packages (only the missing ones) and build the catkin workspace.
+# Install RoboPuppet's Debian packages (only the missing ones), build the catkin workspace and
+# install the one Python package Debian lacks (pyarrow, pinned) into it.
 # Idempotent: a second run installs nothing and rebuilds only what changed.
 # Sourced by run.sh and test.sh; also usable alone: bash tools/setup.sh
 set -euo pipefail
@@ -38,6 +39,18 @@ if ! out=$(catkin_make -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCMAKE_BUILD_TYPE=R
   echo "$out" | tail -40
   echo "[setup] catkin_make failed" >&2
   exit 1
+fi
+# The LeRobot export's Parquet writer: Debian 12 packages none, so a pinned pyarrow wheel from
+# the Python package registry goes into the workspace, where lerobot_parquet.py finds it.
+DEPS="$ROOT/catkin_ws/devel/python-deps"
+PYARROW_VERSION=$(sed -n "s/^PYARROW_VERSION = '\([^']*\)'.*/\1/p" \
+  "$ROOT/catkin_ws/src/robopuppet/src/robopuppet/episodes/lerobot_parquet.py")
+if ! PYTHONPATH="$DEPS" /usr/bin/python3 -c "import sys, pyarrow
+sys.exit(pyarrow.__version__ != '$PYARROW_VERSION')" 2>/dev/null; then
+  echo "[setup] installing pyarrow $PYARROW_VERSION into $DEPS"
+  rm -rf "$DEPS"
+  /usr/bin/python3 -m pip install --quiet --disable-pip-version-check --no-deps \
+    --root-user-action=ignore --only-binary=:all: --target "$DEPS" "pyarrow==$PYARROW_VERSION"
 fi
 flock -u 9
 echo "[setup] workspace ready: source catkin_ws/devel/setup.bash"

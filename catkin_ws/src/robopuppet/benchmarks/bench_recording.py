@@ -129,10 +129,10 @@ def run(args, cameras, pid):
     episodes, recording_s, recording_cpu_s = [], 0.0, 0.0
     for _ in range(args.episodes):
         before, started = cpu_s(pid), time.monotonic()
-        answer = record(True, 'benchmark')
+        answer = record(True, 'benchmark', '')
         traffic.run_for(args.minutes * 60)
         stop_s = rospy.get_time()
-        record(False, '')
+        record(False, '', '')
         recording_cpu_s += cpu_s(pid) - before
         recording_s += time.monotonic() - started
         episodes.append((answer.episode, stop_s))

@@ -45,7 +45,7 @@ class RecorderLaunch:
 
     def record(self, start):
         """Start (True) or stop an episode through /puppet/record; return its bag file."""
-        answer = self._record(start, 'bench_teleop --record' if start else '')
+        answer = self._record(start, 'bench_teleop --record' if start else '', '')
         if not answer.ok:
             raise RuntimeError('/puppet/record refused: %s' % answer.error)
         return answer.episode

@@ -153,21 +153,21 @@ class EpisodesSimTest(unittest.TestCase):
         record.wait_for_service(10)
         buttons = set(recording.button_topics(('R',)))
         self.assertEqual(recorder_inputs(), (buttons, buttons))  # idle
-        answers = [record(k % 2 == 0, 'quick %d' % k) for k in range(20)]  # ten episodes
+        answers = [record(k % 2 == 0, 'quick %d' % k, '') for k in range(20)]  # ten episodes
         self.assertEqual([a.error for a in answers if not a.ok], [])
         self.assertEqual(len({a.episode for a in answers}), 10)
         time.sleep(1.0)  # connections that were still being made when their episode stopped
         self.assertEqual(recorder_inputs(), (buttons, buttons))
-        record(True, 'after the quick ones')  # and the next episode subscribes them all again
+        record(True, 'after the quick ones', '')  # and the next episode subscribes them all again
         episode_topics = set(recording.episode_topics(('R',), CAMERAS))
         wait_for(lambda: recorder_inputs()[0] == buttons | episode_topics, 5, 'subscriptions')
-        self.assertTrue(record(False, '').ok)
+        self.assertTrue(record(False, '', '').ok)
         self.assertEqual(recorder_inputs(), (buttons, buttons))
 
     def test_3_a_kill_mid_episode_loses_at_most_a_second(self):
         record = rospy.ServiceProxy(interface.RECORD_SERVICE, Record)
         record.wait_for_service(10)
-        answer = record(True, 'to be killed')
+        answer = record(True, 'to be killed', '')
         self.assertTrue(answer.ok, answer.error)
         time.sleep(2.0)  # an episode of a few seconds; what the kill keeps is checked below
         api = rosgraph.Master(rospy.get_name()).lookupNode('/recorder')

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """rostest: a second recorder beside a recording one (same episodes folder, or its own folder
 on the same master) refuses to start and touches nothing; a killed recorder's respawn takes its
-folder and /puppet/record over."""
+folder and /puppet/record over; an episode's task comes from the service, else from the
+recorder's ~task, and `episodes set-task` changes it once the episode has stopped."""
 import os
 import signal
 import subprocess
@@ -73,12 +74,12 @@ class RecorderSecondTest(unittest.TestCase):
     def serving(self):
         """Return True when /puppet/record answers (a stop while idle: 'not recording')."""
         try:
-            return not self.record(False, '').ok
+            return not self.record(False, '', '').ok
         except rospy.ServiceException:
             return False
 
-    def start_episode(self, notes):
-        answer = self.record(True, notes)
+    def start_episode(self, notes, task=''):
+        answer = self.record(True, notes, task)
         self.assertTrue(answer.ok, answer.error)
         # A status while recording, but for the start's, follows a flush (the 0.5 s loop).
         wait_for(lambda: self.status.recording and self.status.episode == answer.episode
@@ -86,7 +87,7 @@ class RecorderSecondTest(unittest.TestCase):
         return answer.episode, answer.episode + '.active'
 
     def stop_episode(self, episode):
-        answer = self.record(False, '')
+        answer = self.record(False, '', '')
         self.assertTrue(answer.ok, answer.error)
         self.assertEqual(answer.episode, episode)
         with rosbag.Bag(episode) as bag:  # whole: opens without a reindex
@@ -144,6 +145,37 @@ class RecorderSecondTest(unittest.TestCase):
         self.assertIn('(pid %d /recorder)' % respawned, said)
         episode, _ = self.start_episode('after the respawn')
         self.stop_episode(episode)
+
+    def test_4_the_task_given_else_the_recorders_lands_in_the_metadata(self):
+        episode, _ = self.start_episode('own task', '  pick up the cup  ')
+        code, said = set_task(episode, 'changed while recording')
+        self.assertEqual(code, 1)
+        self.assertIn('is still being recorded', said)
+        self.assertEqual(self.stop_episode(episode)['task'], 'pick up the cup')
+        self.assertEqual(set_task(episode, 'pick up the mug'), (0, ''))
+        meta = yaml.safe_load(open(episode[:-len('.bag')] + '.yaml'))
+        self.assertEqual((meta['task'], meta['notes'], meta['ended_cleanly']),
+                         ('pick up the mug', 'own task', True))
+        episode, _ = self.start_episode('default task')  # recorder_second.test's ~task
+        self.assertEqual(self.stop_episode(episode)['task'], 'hand the cup to the patient')
+        for task, why in (('pick up\nthe cup', 'one line'), ('x' * 501, 'at most 500'),
+                          ('bell\a', 'printable')):
+            answer = self.record(True, '', task)
+            self.assertFalse(answer.ok)
+            self.assertIn(why, answer.error)
+            self.assertEqual(answer.episode, '')
+            wait_for(lambda: self.status is not None and why in self.status.problem, 5,
+                     'the status saying %s' % why)
+            self.assertFalse(self.status.recording)
+        self.assertFalse(self.record(False, '', '').ok)  # nothing was started
+
+
+def set_task(episode, task):
+    """Run `rosrun robopuppet episodes set-task episode --task task`; return (exit, stderr)."""
+    proc = subprocess.run(['rosrun', 'robopuppet', 'episodes', 'set-task', episode, '--task',
+                           task], text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                          timeout=SECOND_S)
+    return proc.returncode, proc.stderr
 
 
 if __name__ == '__main__':

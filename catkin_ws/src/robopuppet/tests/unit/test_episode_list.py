@@ -22,11 +22,12 @@ def test_the_list_says_each_episodes_start_duration_size_ending_and_exports(
     request.addfinalizer(lambda: (monkeypatch.undo(), time.tzset()))  # TZ back, then reread
     write(tmp_path, 'episode_20240101-120000_2', 3000000, start_time='2024-01-01T12:00:05.250Z',
           duration_s=20.04, sides=['R'], cameras=['room_camera', 'right_hand_camera'],
-          ended_cleanly=True, notes='demo 1:\n reach and grip')
+          ended_cleanly=True, notes='demo 1:\n reach and grip', task='pick up the cup')
     for suffix in ('.hdf5', '.png'):
         (tmp_path / ('episode_20240101-120000_2' + suffix)).write_bytes(b'')
     write(tmp_path, 'episode_20240101-110000', 1500000, start_time='2024-01-01T11:00:00.000Z',
-          duration_s=4.0, sides=['L', 'R'], ended_cleanly=False)  # repaired, no cameras key
+          duration_s=4.0, sides=['L', 'R'], ended_cleanly=False,  # repaired, no cameras key
+          task='lift the cup over the bed and hand it to the patient, handle first')
     write(tmp_path, 'episode_20240101-130000', 500000, suffix='.bag.active',
           start_time='2024-01-01T13:00:00.000Z', duration_s=0.0, sides=['R'], cameras=[],
           ended_cleanly=False)
@@ -38,18 +39,22 @@ def test_the_list_says_each_episodes_start_duration_size_ending_and_exports(
     assert exit_info.value.code == 0
     lines = capsys.readouterr().out.splitlines()
     assert lines[0].split() == ['episode', 'start', 'duration', 'sides', 'cameras', 'size',
-                                'ended', 'exported', 'notes']
+                                'ended', 'exported', 'task', 'notes']
     assert lines[1].split() == ['episode_20240101-110000', '2024-01-01', '11:00:00', '4.0',
-                                's', 'LR', '0', '1.5', 'MB', 'repaired', '-']
+                                's', 'LR', '0', '1.5', 'MB', 'repaired', '-', 'lift', 'the',
+                                'cup', 'over', 'the', 'bed', 'and', 'hand', 'it', 'to', 'the',
+                                'pa...']
     assert lines[2].split() == ['episode_20240101-120000_2', '2024-01-01', '12:00:05', '20.0',
-                                's', 'R', '2', '3.0', 'MB', 'clean', 'hdf5', 'png', 'demo',
-                                '1:', 'reach', 'and', 'grip']
+                                's', 'R', '2', '3.0', 'MB', 'clean', 'hdf5', 'png', 'pick',
+                                'up', 'the', 'cup', 'demo', '1:', 'reach', 'and', 'grip']
     assert lines[3].split() == ['episode_20240101-130000', '2024-01-01', '13:00:00', '?', 'R',
-                                '0', '0.5', 'MB', 'recording', '-']
+                                '0', '0.5', 'MB', 'recording', '-', '-']
     assert lines[4].split() == ['episode_20240101-140000', '2024-01-01', '14:00:00', '?', '-',
-                                '?', '0.1', 'MB', 'broken', '-']
+                                '?', '0.1', 'MB', 'broken', '-', '-']
     assert lines[5] == '4 episodes, 5.1 MB, in %s' % tmp_path
     assert len({line.index(' 2024-01-01') for line in lines[1:5]}) == 1  # aligned columns
+    assert lines[1].index('lift') == lines[2].index('pick up')  # the task column, and the
+    assert lines[2].index('demo 1') == lines[1].index('lift') + 50 + 2  # notes after its 50
 
 
 def test_a_missing_folder_is_said_and_an_empty_one_listed(tmp_path, capsys):

@@ -1,4 +1,4 @@
-"""Unit tests of recorder.launch's cameras argument (roslaunch's config, no ROS master)."""
+"""Unit tests of recorder.launch's cameras and task arguments (roslaunch config, no ROS master)."""
 import os
 import sys
 
@@ -26,3 +26,10 @@ def test_the_cameras_recorded_are_the_node_default_unless_a_list_is_given(launch
     assert recorder_params(launch, 'record_cameras:=[right_hand_camera, room_camera]')[
         'cameras'] == ['right_hand_camera', 'room_camera']
     assert recorder_params(launch, 'record_cameras:=[]')['cameras'] == []
+
+
+@pytest.mark.parametrize('launch', ['recorder.launch', 'operator.launch', 'main_sim.launch'])
+def test_the_task_argument_is_the_recorders_task_parameter(launch):
+    assert recorder_params(launch)['task'] == ''  # none
+    assert recorder_params(launch, 'task:=pick up the cup: 42')['task'] == 'pick up the cup: 42'
+    assert recorder_params(launch, 'task:=42')['task'] == '42'  # text, not a number

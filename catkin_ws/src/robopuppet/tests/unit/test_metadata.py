@@ -30,6 +30,15 @@ def test_metadata_round_trips_and_a_missing_file_is_empty(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ['e.yaml']  # no temp file left
 
 
+@pytest.mark.parametrize('task', ['pick up the cup', 'yes', 'null', '- a: b # c', "it's \"it\"",
+                                  '42', 'über 50 %', ''])
+def test_a_task_round_trips_as_the_same_string(tmp_path, task):
+    path = str(tmp_path / 'e.yaml')
+    metadata.write_metadata(path, recording.metadata('e', 0.0, 0.0, 0.0, ('R',), (), None, {},
+                                                     '', True, False, {}, task))
+    assert metadata.read_metadata(path)['task'] == task  # a string, never YAML's bool or number
+
+
 @pytest.mark.parametrize('text, error', [('', metadata.EpisodeError),
                                          ('- a list\n', metadata.EpisodeError),
                                          ('{not: yaml: at all\n', yaml.YAMLError)])

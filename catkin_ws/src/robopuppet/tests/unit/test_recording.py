@@ -92,10 +92,11 @@ def test_any_file_of_a_name_takes_it(tmp_path, ext):
 def test_metadata_holds_every_agreed_key_with_its_type():
     meta = recording.metadata('episode_1', 1706711101.25, 42.5, 3.0, ('R',), ('room_camera',),
                               10.0, {'R': 'ab' * 32, 'L': 'ignored'}, 'pick the cup', True, True,
-                              {'/b': 2, '/a': 1})
+                              {'/b': 2, '/a': 1}, 'hand the cup over')
     assert list(meta) == ['format_version', 'name', 'start_time', 'start_stamp', 'duration_s',
                           'sides', 'cameras', 'comm_rate_hz', 'ini_fingerprints', 'notes',
-                          'ended_cleanly', 'sim', 'topics']
+                          'task', 'ended_cleanly', 'sim', 'topics']
+    assert meta['task'] == 'hand the cup over'
     assert meta['format_version'] == 1
     assert meta['start_time'] == '2024-01-31T14:25:01.250Z'
     assert meta['start_stamp'] == 42.5 and meta['duration_s'] == 3.0
@@ -108,6 +109,7 @@ def test_metadata_holds_every_agreed_key_with_its_type():
 def test_metadata_keeps_unknowns_as_null():
     meta = recording.metadata('e', 0.0, 0.0, 0.0, ('L', 'R'), (), None, {}, '', False, False, {})
     assert meta['comm_rate_hz'] is None and meta['ini_fingerprints'] == {'L': None, 'R': None}
+    assert meta['task'] == ''  # none
     assert meta['start_time'] == '1970-01-01T00:00:00.000Z'
 
 
@@ -143,3 +145,28 @@ def test_an_episode_counts_messages_per_topic_and_reports_its_duration():
 ])
 def test_the_status_line(status, text):
     assert recording.status_text(status) == text
+
+
+@pytest.mark.parametrize('text, task', [
+    ('pick up the cup and hand it to the patient', 'pick up the cup and hand it to the patient'),
+    ('  pick up: the "cup" #2, 50 % ok\n', 'pick up: the "cup" #2, 50 % ok'),  # ends trimmed
+    ('heb den Becher über das Bett', 'heb den Becher über das Bett'),
+    ('x' * recording.TASK_MAX_CHARS, 'x' * recording.TASK_MAX_CHARS),
+    ('', ''), ('   ', ''),  # none
+])
+def test_a_task_is_one_printable_line_trimmed(text, task):
+    assert recording.check_task(text) == task
+
+
+@pytest.mark.parametrize('text, why', [
+    ('pick up\nthe cup', 'one line'), ('pick up\rthe cup', 'one line'),
+    ('pick up\u2028the cup', 'one line'),
+    ('x' * (recording.TASK_MAX_CHARS + 1), 'at most 500 characters, got 501'),
+    ('pick\tup', "printable text: it holds '\\t' at character 5"),
+    ('bell\x07', 'printable'), ('nul\x00', 'printable'), ('zero\u200bwidth', 'printable'),
+    (None, 'text'), (42, 'text'), (['a'], 'text'),
+])
+def test_a_task_of_several_lines_too_long_or_unprintable_is_refused(text, why):
+    with pytest.raises(ValueError, match='task must be') as error:
+        recording.check_task(text)
+    assert why in str(error.value)

@@ -28,8 +28,8 @@ class RecorderClient(FakeClient):
     def recording_status(self):
         return self.status
 
-    def record(self, start, notes):
-        self.calls.append((start, notes, threading.current_thread().name))
+    def record(self, start, notes, task):
+        self.calls.append((start, notes, task, threading.current_thread().name))
         self.release.wait(5.0)
         if not self.up:
             raise ConfigUnavailable('/puppet/record: no service')
@@ -57,8 +57,8 @@ def test_start_sends_the_notes_off_the_gui_thread_and_stop_follows(qtbot, win):
     assert win.frames == frames + 1 and box.busy() and not box.button.isEnabled()
     client.release.set()
     qtbot.waitUntil(lambda: not box.busy(), timeout=3000)
-    assert client.calls[0][:2] == (True, 'pick up the cup')
-    assert client.calls[0][2] != threading.current_thread().name
+    assert client.calls[0][:3] == (True, 'pick up the cup', '')
+    assert client.calls[0][3] != threading.current_thread().name
     client.status = recording.Status(True, '/e/episode_1.bag', 12.3, 3_400_000, 99, '')
     win.frame()
     assert box.status_label.text() == 'REC 00:12, 3.4 MB'
@@ -85,6 +85,26 @@ def test_a_refusal_or_a_missing_recorder_is_shown_in_red(qtbot, win, refusal, up
     assert shown in box.status_label.text() and box.button.isEnabled()
     assert recording_box.RED_TEXT in box.status_label.styleSheet()
     assert not client.status.recording
+
+
+def test_the_task_goes_with_each_start_and_stays_for_the_next_episode(qtbot, win):
+    box, client = win.main_tab.recording_box, win.client
+    box.task.setText('pick up the cup and hand it to the patient')
+    box.notes.setText('demo 1')
+    for k in range(2):   # start, stop, start again: the nurse types the task once
+        box.button.click()
+        qtbot.waitUntil(lambda: not box.busy(), timeout=3000)
+        win.frame()
+    assert [call[:3] for call in client.calls] == [
+        (True, 'demo 1', 'pick up the cup and hand it to the patient'),
+        (False, 'demo 1', 'pick up the cup and hand it to the patient')]
+    assert box.task.text() == 'pick up the cup and hand it to the patient'
+    box.notes.setText('demo 2')
+    box.button.click()
+    qtbot.waitUntil(lambda: not box.busy(), timeout=3000)
+    assert client.calls[2][:3] == (True, 'demo 2', 'pick up the cup and hand it to the patient')
+    box.task.setText('x' * 600)   # the field holds no more than the recorder takes
+    assert box.task.text() == 'x' * recording.TASK_MAX_CHARS
 
 
 def test_a_problem_the_recorder_reports_is_shown_in_red(win):

@@ -1,10 +1,12 @@
 """The terminal command episodes: the episodes of a folder, one line each, oldest first.
 
     rosrun robopuppet episodes [DIR]
+    rosrun robopuppet episodes set-task EPISODE... --task TEXT   (episode_task)
 
 DIR defaults to $ROS_HOME/robopuppet/episodes/ (ROS_HOME defaulting to ~/.ros). Each line: the
 name, start (local time), duration, puppet sides, cameras, the bag's size, how it ended, the
-files exported beside it and the notes. How it ended: `clean` (stopped), `repaired` (the
+files exported beside it, the task (its first TASK_CHARS characters, '-' for none) and the
+notes. How it ended: `clean` (stopped), `repaired` (the
 recorder repaired it after a crash: ended_cleanly false), `recording` (a .bag.active: still
 being recorded, or left by a crash that the recorder's next start repairs), `broken` (a
 .bag.broken: beyond repair). Reads only the folder and the .yaml files (no bag is opened).
@@ -23,14 +25,15 @@ EXPORTED = (('.hdf5', 'hdf5'), ('.csv', 'csv'), ('.png', 'png'))
 BROKEN = '.bag.broken'
 ENDINGS = ((recording.ACTIVE, 'recording'), (BROKEN, 'broken'), (recording.BAG, None))
 HEADER = ('episode', 'start', 'duration', 'sides', 'cameras', 'size', 'ended', 'exported',
-          'notes')
+          'task', 'notes')
+TASK_CHARS = 50   # of a task shown in the list (the .yaml holds it whole)
 
 Entry = collections.namedtuple('Entry', 'name start duration_s sides cameras size_bytes ended '
-                                        'exported notes')
+                                        'exported task notes')
 Entry.__doc__ = """One episode: name, start (datetime, local; None when unknown), duration_s
 (None when unknown), sides ('R', 'LR'), cameras (count; None when unknown), size_bytes (its
 bag), ended ('clean', 'repaired', 'recording', 'broken'), exported (['hdf5', 'csv', 'png'] of
-the files beside it), notes."""
+the files beside it), task ('' for none), notes."""
 
 
 def _start(metadata, name):
@@ -78,6 +81,7 @@ def entries(directory):
             len(cameras) if isinstance(cameras, list) else None,
             os.path.getsize(os.path.join(directory, file_name)), ended,
             [kind for ext, kind in EXPORTED if os.path.exists(base + ext)],
+            ' '.join(str(meta.get('task') or '').split()),
             ' '.join(str(meta.get('notes') or '').split())))
     return sorted(found, key=lambda e: (e.start or datetime.datetime.min, e.name))
 
@@ -89,7 +93,12 @@ def row(entry):
             '?' if entry.duration_s is None else '%.1f s' % entry.duration_s,
             entry.sides or '-', '?' if entry.cameras is None else str(entry.cameras),
             '%.1f MB' % (entry.size_bytes / 1e6), entry.ended,
-            ' '.join(entry.exported) or '-', entry.notes)
+            ' '.join(entry.exported) or '-', _shortened(entry.task) or '-', entry.notes)
+
+
+def _shortened(text):
+    """Return text, cut to TASK_CHARS characters (the last three '...') when longer."""
+    return text if len(text) <= TASK_CHARS else text[:TASK_CHARS - 3] + '...'
 
 
 def table(found, directory):
@@ -105,12 +114,19 @@ def table(found, directory):
 
 
 def main(argv=None):
-    """Print the episodes of the folder named on the command line (exit 0; 2 if no folder)."""
-    parser = argparse.ArgumentParser(prog='episodes', description='List recorded episodes.')
+    """Print the episodes of the folder named on the command line (exit 0; 2 if no folder), or
+    run `set-task` (episode_task.main)."""
+    argv = sys.argv[1:] if argv is None else argv
+    if argv[:1] == ['set-task']:
+        from robopuppet.episodes import episode_task  # pylint: disable=import-outside-toplevel
+        episode_task.main(argv[1:])  # (it imports the exporter: the list stays quick without)
+    parser = argparse.ArgumentParser(
+        prog='episodes', description='List recorded episodes.',
+        epilog="`episodes set-task EPISODE... --task TEXT` sets episodes' task (see its --help)")
     parser.add_argument('directory', nargs='?', metavar='DIR',
                         default=export_files.default_episodes_dir(),
                         help='the episodes folder (default %(default)s)')
-    args = parser.parse_args(sys.argv[1:] if argv is None else argv)
+    args = parser.parse_args(argv)
     if not os.path.isdir(args.directory):
         print('episodes: no such folder: %s' % args.directory, file=sys.stderr)
         sys.exit(2)

@@ -11,7 +11,7 @@ error line and the others still export; the exit code is 1 if any failed. The HD
 images of every camera with frames in the bag, of the --cameras named (each must have frames),
 or none (--no-images), scaled to --image-size (default 320x240). Before writing it, export says
 its estimated size, and refuses one above 1 GB without --yes. --act-dir writes it as ACT's
-loader opens it (export_act).
+loader opens it (export_act). --format lerobot: one LeRobotDataset in --out (lerobot_export).
 """
 import argparse
 import contextlib
@@ -22,7 +22,8 @@ import sys
 import time
 
 from robopuppet.episodes import (bag_chunks, export, export_act, export_files, export_images,
-                                 export_run, export_size, export_writers)
+                                 export_run, export_size, export_writers, lerobot_export,
+                                 lerobot_options)
 from robopuppet.episodes.metadata import EpisodeError, episode_paths, read_metadata
 from robopuppet.interface import ROBOT_JOINT_STATES
 
@@ -199,9 +200,10 @@ def parse_args(argv):
                         help='episode name (in %s) or its .bag/.yaml path'
                         % export_files.default_episodes_dir())
     parser.add_argument('--format', action='append', dest='formats',
-                        choices=sorted(FORMATS) + ['all'],
+                        choices=sorted(FORMATS) + ['all', 'lerobot'],
                         help='aloha-hdf5 (one .hdf5 per episode), csv (Rethink joint_recorder) '
-                             'or all; repeatable (default aloha-hdf5 unless only --plot)')
+                             'or all; repeatable (default aloha-hdf5 unless only --plot); '
+                             'lerobot: one LeRobotDataset v3.0 in --out DIR')
     parser.add_argument('--rate', type=float, default=export.DEFAULT_RATE_HZ, metavar='HZ',
                         help='resampling rate in Hz (default %(default)g)')
     parser.add_argument('--out', metavar='DIR',
@@ -227,11 +229,14 @@ def parse_args(argv):
     parser.add_argument('--yes', action='store_true',
                         help='write an HDF5 estimated above %s too'
                         % export_size.megabytes(export_size.LIMIT_BYTES))
+    lerobot_options.add_arguments(parser)
     args = parser.parse_args(argv)
     if not (args.rate > 0 and args.rate < float('inf')):
         parser.error('--rate must be a positive number of Hz')
     chosen = set(args.formats or ([] if args.plot and not args.act_dir else ['aloha-hdf5']))
     args.formats = set(FORMATS) if 'all' in chosen else chosen
+    if lerobot_options.check_arguments(parser, args, chosen):
+        return args
     hdf5_only = [option for option, value in (
         ('--cameras and --no-images', args.cameras is not None),
         ('--image-size', args.image_size is not None), ('--compression', args.compression),
@@ -267,6 +272,10 @@ def main(argv=None):
         if directory:
             os.makedirs(directory, exist_ok=True)
     signal.signal(signal.SIGTERM, _terminated)  # so that the .part files are removed
+    if 'lerobot' in args.formats:
+        sys.exit(lerobot_export.run(args, lambda text: print('export: ' + text, flush=True),
+                                    lambda text: print(text, file=sys.stderr, flush=True),
+                                    PROGRESS_PERIOD_S, resolve))
     failed, damaged = 0, 0
     for episode in args.episodes:
         try:

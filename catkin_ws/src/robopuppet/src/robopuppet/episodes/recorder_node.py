@@ -42,6 +42,9 @@ class RecorderNode:
         ~min_free_mb (float, default 200): free space (MB) below which an episode neither
             starts nor goes on.
         ~sim (bool, default false): recorded against the simulated system (metadata sim).
+        ~task (str, default ''): the metadata's task of an episode started without one (button
+            4, or a Record request whose task is empty); one printable line, at most
+            recording.TASK_MAX_CHARS characters, else such a start is refused.
         The metadata also reads /arm_<side>/comm_rate and /config_<side>/file_name.
     """
 
@@ -78,8 +81,8 @@ class RecorderNode:
                       ''.join(sides), ', '.join(cameras) or 'none', self._recorder.directory,
                       interface.BUTTON_RECORD, interface.RECORD_SERVICE)
 
-    def _start(self, notes):
-        context = running_system(self._recorder.sides) + (self._sim,)
+    def _start(self, notes, task=''):
+        context = running_system(self._recorder.sides) + (self._sim, task)
         with self._switch:
             self._unsubscribe()  # those of an episode that stopped itself (disk, write error)
             problem = self._folder.claim()
@@ -122,7 +125,10 @@ class RecorderNode:
             rospy.logwarn('not %s: %s', what, error)
 
     def _on_record(self, request):
-        answer = self._start(request.notes) if request.start else self._stop(request.notes)
+        if request.start:
+            answer = self._start(request.notes, request.task)
+        else:
+            answer = self._stop(request.notes)
         return RecordResponse(*answer)
 
     def _on_message(self, msg, topic_and_number):

@@ -19,7 +19,8 @@ FILES = types.SimpleNamespace(BagWriter=episode_files.BagWriter,
 
 
 def make_recorder(directory):
-    """Return (the session.Recorder of ~sides, ~cameras and ~min_free_mb into directory, ~sim).
+    """Return (the session.Recorder of ~sides, ~cameras, ~min_free_mb and ~task into directory,
+    ~sim).
 
     Raises:
         ValueError: ~sides or ~cameras names no side or camera.
@@ -28,7 +29,12 @@ def make_recorder(directory):
     cameras = recording.parse_cameras(rospy.get_param('~cameras', list(interface.SIM_CAMERAS)))
     sim = bool(rospy.get_param('~sim', False))
     min_free_mb = float(rospy.get_param('~min_free_mb', recording.DEFAULT_MIN_FREE_MB))
-    return Recorder(directory, sides, cameras, min_free_mb, FILES), sim
+    task = rospy.get_param('~task', '')
+    try:
+        recording.check_task(task)
+    except ValueError as error:  # kept: each start without a task of its own says why
+        rospy.logerr("~task: %s: an episode started without a task is refused", error)
+    return Recorder(directory, sides, cameras, min_free_mb, FILES, task), sim
 
 
 def running_system(sides):

@@ -14,6 +14,7 @@ from robopuppet import interface
 FORMAT_VERSION = 1
 DEFAULT_MIN_FREE_MB = 200.0       # below this free space an episode neither starts nor goes on
 NAME_PREFIX = 'episode_'
+TASK_MAX_CHARS = 500              # an episode's task: one printable line of at most this many
 BAG, ACTIVE, META = '.bag', '.bag.active', '.yaml'
 LOCK_FILE = '.recorder.lock'      # in the episodes folder: one recorder per folder (flock)
 CAMERA_IMAGE = interface.CAMERA_COMPRESSED  # what an episode holds of each camera (JPEG)
@@ -136,8 +137,30 @@ def disk_problem(free_bytes, min_free_mb):
     return ''
 
 
+def check_task(text):
+    """Return an episode's task (what the demonstration shows, for a language-conditioned
+    policy) with the white space at its ends removed; '' means none.
+
+    Raises:
+        ValueError: not one line of at most TASK_MAX_CHARS printable characters.
+    """
+    if not isinstance(text, str):
+        raise ValueError('task must be text, got %r' % (text,))
+    task = text.strip()
+    if any(c in task for c in '\r\n\x0b\x0c\x1c\x1d\x1e\x85\u2028\u2029'):
+        raise ValueError('task must be one line: it holds a line break')
+    if len(task) > TASK_MAX_CHARS:
+        raise ValueError('task must be at most %d characters, got %d' % (
+            TASK_MAX_CHARS, len(task)))
+    bad = next((c for c in task if not c.isprintable()), None)
+    if bad is not None:
+        raise ValueError('task must be printable text: it holds %s at character %d' % (
+            ascii(bad), task.index(bad) + 1))
+    return task
+
+
 def metadata(name, start_wall_s, start_stamp_s, duration_s, sides, cameras, comm_rate_hz,
-             ini_fingerprints, notes, ended_cleanly, sim, topics):
+             ini_fingerprints, notes, ended_cleanly, sim, topics, task=''):
     """Return an episode's metadata as the dict written to <name>.yaml.
 
     Args:
@@ -150,6 +173,7 @@ def metadata(name, start_wall_s, start_stamp_s, duration_s, sides, cameras, comm
         ini_fingerprints: {side: sha256 hex of the live ini file, or None}.
         sim: recorded against the simulated system.
         topics: {topic: message count} ({} at start).
+        task: what the episode demonstrates (check_task), '' for none.
     """
     return {
         'format_version': FORMAT_VERSION,
@@ -163,6 +187,7 @@ def metadata(name, start_wall_s, start_stamp_s, duration_s, sides, cameras, comm
         'comm_rate_hz': None if comm_rate_hz is None else float(comm_rate_hz),
         'ini_fingerprints': {side: ini_fingerprints.get(side) for side in sides},
         'notes': notes,
+        'task': task,
         'ended_cleanly': bool(ended_cleanly),
         'sim': bool(sim),
         'topics': {topic: int(count) for topic, count in sorted(topics.items())},

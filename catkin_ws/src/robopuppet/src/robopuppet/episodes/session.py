@@ -23,10 +23,12 @@ class Recorder:
         files: BagWriter(directory, name) (write(topic, msg, stamp_s) -> bytes, flush(),
             size_bytes(), close(), abandon(), .path), write_metadata(path, dict) and
             free_bytes(directory), as in recorder_params.FILES; each may raise OSError.
+        task: the task of an episode started without one (~task; checked at each start).
     """
 
-    def __init__(self, directory, sides, cameras, min_free_mb, files):
+    def __init__(self, directory, sides, cameras, min_free_mb, files, task=''):
         self.directory = directory
+        self.task = task
         self.sides = tuple(sides)
         self.cameras = tuple(cameras)
         self.min_free_mb = min_free_mb
@@ -40,16 +42,28 @@ class Recorder:
         """Return True while an episode is open."""
         return self._writer is not None
 
-    def start(self, notes, stamp_s, wall_s, comm_rate_hz, ini_fingerprints, sim):
+    def start(self, notes, stamp_s, wall_s, comm_rate_hz, ini_fingerprints, sim, task=''):
         """Open a new episode at ROS time stamp_s and Unix time wall_s (s).
 
-        comm_rate_hz, ini_fingerprints and sim go into the metadata (recording.metadata).
+        comm_rate_hz, ini_fingerprints and sim go into the metadata (recording.metadata), and
+        the task (recording.check_task; '' or blank: self.task).
         Returns:
-            (ok, error, episode bag file): refused (ok False) while recording, when the disk
-            is nearly full or the directory cannot be written.
+            (ok, error, episode bag file): refused (ok False) while recording, for a task that
+            is not one printable line, when the disk is nearly full or the directory cannot be
+            written.
         """
         if self._writer is not None:
             return False, 'already recording %s' % self._writer.path, self._writer.path
+        try:
+            task = recording.check_task(task)
+        except ValueError as error:
+            return self.refuse(str(error))
+        if not task:
+            try:
+                task = recording.check_task(self.task)
+            except ValueError as error:
+                return self.refuse("the recorder's ~task is not valid (give a task with the "
+                                   "start, or fix ~task): %s" % error)
         try:
             os.makedirs(self.directory, exist_ok=True)
             problem = recording.disk_problem(self._files.free_bytes(self.directory),
@@ -61,7 +75,7 @@ class Recorder:
         name = recording.episode_name(time.localtime(wall_s),
                                       lambda n: recording.files_taken(self.directory, n))
         meta = recording.metadata(name, wall_s, stamp_s, 0.0, self.sides, self.cameras,
-                                  comm_rate_hz, ini_fingerprints, notes, False, sim, {})
+                                  comm_rate_hz, ini_fingerprints, notes, False, sim, {}, task)
         try:
             writer = self._files.BagWriter(self.directory, name)
         except OSError as error:

@@ -93,10 +93,12 @@ class PuppetClient(StateTopics, CommandTopics):
             j.joint: {name: getattr(j, name) for name in settings.NAMES}
             for j in response.settings.joints})
 
-    def record(self, start, notes='', timeout_s=1.0):
+    def record(self, start, notes='', task='', timeout_s=1.0):
         """Ask the recorder to start (start True) or stop an episode; return a RecordAnswer.
-        Blocks and raises (the recorder not there) like get_config."""
-        response = self._call(self._record, interface.RECORD_SERVICE, timeout_s, start, notes)
+        task: what a started episode demonstrates ('': the recorder's ~task). Blocks and
+        raises (the recorder not there) like get_config."""
+        response = self._call(self._record, interface.RECORD_SERVICE, timeout_s, start, notes,
+                              task)
         return RecordAnswer(response.ok, response.error, response.episode)
 
     @staticmethod
