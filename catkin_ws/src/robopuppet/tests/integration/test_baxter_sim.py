@@ -25,6 +25,7 @@ from robopuppet.interface import BAXTER_SIDES
 
 URDF = os.path.join(rospkg.RosPack().get_path('robopuppet'), 'urdf', 'baxter.urdf')
 DESC = bd.load(URDF)
+TORSO_WARNING_S = 10.0   # robot_state_publisher's period of a warning about an unknown joint
 
 
 class BaxterSimTest(unittest.TestCase):
@@ -99,6 +100,16 @@ class BaxterSimTest(unittest.TestCase):
         self.assertEqual(len(msg.name), len(msg.position))
         self.assertEqual(len(msg.name), len(msg.velocity))
         self.assertEqual(len(msg.name), len(msg.effort))
+
+    def test_robot_state_publisher_quiet_about_torso_t0(self):
+        """torso_t0 is in the joint states and fixed in the URDF: Debian's robot_state_publisher
+        warns of it every 10 s unless the launch file's rosconsole levels quiet it."""
+        self.rosout.record()
+        start = self.joints.msg.header.stamp.to_sec()
+        wait_for(lambda: self.joints.msg.header.stamp.to_sec() - start > TORSO_WARNING_S + 1.0,
+                 TORSO_WARNING_S + 10.0, 'the stand-in\'s clock to pass the warning\'s period')
+        lines = [m.msg for _, m in self.rosout.stop_recording() if 'torso_t0' in m.msg]
+        self.assertEqual(lines, [])
 
     def test_commands_ignored_while_disabled(self):
         self.set_enabled(False)

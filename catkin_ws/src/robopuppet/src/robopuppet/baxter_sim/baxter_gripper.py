@@ -15,9 +15,12 @@ GRIPPER_DEFAULTS = {'velocity': 50.0, 'moving_force': 40.0, 'holding_force': 30.
 MAX_TEXT_CHARS = 4096
 
 
-def approach(position, target, max_step, smoothing_factor):
-    """Return the next position: a fraction of the way to target, at most max_step."""
+def approach(position, target, max_step, smoothing_factor, settle=0.0):
+    """Return the next position: a fraction of the way to target, at most max_step; all the
+    way when that would leave at most `settle` to go (a lag that ends, not one that creeps)."""
     step = (target - position) * smoothing_factor
+    if abs(target - position - step) <= settle:
+        step = target - position
     return position + max(-max_step, min(max_step, step))
 
 

@@ -2,9 +2,8 @@
 
 Pure: every method that changes with time takes `now_s` (seconds, any monotonic origin); nothing
 here reads a clock or imports rospy. Joint names and limits come from baxter_description; the
-gripper is robopuppet.baxter_sim.baxter_gripper, the refusals robopuppet.baxter_sim.baxter_refusals,
-the JointCommand's modes and checks baxter_joint_command, the contact with obstacles
-robopuppet.baxter_sim.baxter_contact.
+gripper is baxter_gripper, the refusals baxter_refusals, the JointCommand's modes and checks
+baxter_joint_command, the contact with obstacles baxter_contact (all in robopuppet.baxter_sim).
 
 Position control, the model of Baxter's joint position controller that arm_X's keep-out zones
 rely on (docs/baxter_sim.md, "How the arms move"): in modes 1 and 4 each joint moves on its own,
@@ -28,8 +27,9 @@ from robopuppet.interface import BAXTER_SIDES
 
 DEFAULT_SPEED_RATIO = 0.3
 DEFAULT_COMMAND_TIMEOUT_S = 0.2
-# Mode 1 approaches its target as a first-order lag with this time constant (capped in speed).
-SMOOTHING_TIME_S = 0.05
+# Mode 1 approaches its target as a first-order lag with this time constant (capped in speed),
+# ending on the target once within SETTLED_RAD (so a still arm stands still, as Baxter's settles).
+SMOOTHING_TIME_S, SETTLED_RAD = 0.05, 1e-4
 
 
 class Arm:
@@ -118,7 +118,7 @@ class Arm:
                 new = min(limit.upper, max(limit.lower, old[name] + self.rates[name] * active_s))
             else:
                 new = approach(old[name], self.targets[name], ratio * limit.velocity * active_s,
-                               smoothing)
+                               smoothing, SETTLED_RAD if self.mode == POSITION_MODE else 0.0)
             self.positions[name] = new
         self.efforts = dict(self.torques)
         if self.contact is not None:

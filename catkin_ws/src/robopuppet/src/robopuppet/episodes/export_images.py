@@ -22,10 +22,10 @@ import cv2
 import numpy as np
 
 from robopuppet.episodes.export import ExportError
-from robopuppet.episodes.recording import CAMERA_IMAGE
+from robopuppet.episodes.recording import RECORDED_IMAGE
 from robopuppet.interface import camera_topic
 
-_FRAME_TOPIC_RE = re.compile('^%s$' % re.escape(camera_topic('@', CAMERA_IMAGE)).replace(
+_FRAME_TOPIC_RE = re.compile('^%s$' % re.escape(camera_topic('@', RECORDED_IMAGE)).replace(
     '@', '([^/]+)'))
 
 Run = collections.namedtuple('Run', 'camera start stop image')
@@ -35,7 +35,7 @@ Run.__doc__ = """Grid steps start..stop-1 of camera show image (H, W, 3) uint8 R
 def frame_topic(camera):
     """Return the topic of a camera's recorded frames: /cameras/<camera>/image/compressed
     (sensor_msgs/CompressedImage, JPEG)."""
-    return camera_topic(camera, CAMERA_IMAGE)
+    return camera_topic(camera, RECORDED_IMAGE)
 
 
 def camera_of(topic):

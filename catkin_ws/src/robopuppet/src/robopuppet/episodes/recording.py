@@ -17,7 +17,7 @@ NAME_PREFIX = 'episode_'
 TASK_MAX_CHARS = 500              # an episode's task: one printable line of at most this many
 BAG, ACTIVE, META = '.bag', '.bag.active', '.yaml'
 LOCK_FILE = '.recorder.lock'      # in the episodes folder: one recorder per folder (flock)
-CAMERA_IMAGE = interface.CAMERA_COMPRESSED  # what an episode holds of each camera (JPEG)
+RECORDED_IMAGE = interface.CAMERA_COMPRESSED  # what an episode holds of each camera (JPEG)
 CAMERA_NAME = re.compile(r'[A-Za-z][A-Za-z0-9_]*\Z')  # a ROS name segment, e.g. room_camera
 # A side's own topics (relative to interface.puppet_ns(side)).
 SIDE_TOPICS = (interface.JOINT_STATES,) + tuple(
@@ -78,10 +78,10 @@ def button_topics(sides):
 
 def recorded_topics(sides, cameras=()):
     """Return every topic an episode of these puppet sides and cameras holds: the sides', then
-    Baxter's, then each camera's interface.camera_topic(camera, CAMERA_IMAGE)."""
+    Baxter's, then each camera's interface.camera_topic(camera, RECORDED_IMAGE)."""
     return (tuple('%s/%s' % (interface.puppet_ns(side), name)
                   for side in sides for name in SIDE_TOPICS) + BAXTER_TOPICS
-            + tuple(interface.camera_topic(camera, CAMERA_IMAGE) for camera in cameras))
+            + tuple(interface.camera_topic(camera, RECORDED_IMAGE) for camera in cameras))
 
 
 def episode_topics(sides, cameras=()):
@@ -168,7 +168,7 @@ def metadata(name, start_wall_s, start_stamp_s, duration_s, sides, cameras, comm
         start_stamp_s: the start in ROS time (s).
         duration_s: s recorded (0 at start).
         sides: the puppet sides recorded.
-        cameras: the cameras recorded (their CAMERA_IMAGE topics are in the bag).
+        cameras: the cameras recorded (their RECORDED_IMAGE topics are in the bag).
         comm_rate_hz: the puppet's state-set rate, or None when unknown.
         ini_fingerprints: {side: sha256 hex of the live ini file, or None}.
         sim: recorded against the simulated system.
