@@ -20,7 +20,7 @@ from sensor_msgs.msg import CompressedImage
 
 from robopuppet.cameras import jpeg
 from robopuppet.episodes import (export, export_cli, export_files, lerobot_episode,
-                                 lerobot_meta, lerobot_parquet)
+                                 lerobot_export, lerobot_meta, lerobot_parquet)
 from test_export_files import T0_S, run, write_episode
 from test_lerobot_video import frame_times
 
@@ -357,3 +357,37 @@ def test_the_options_of_the_lerobot_format(capsys):
     args = export_cli.parse_args(['e', '--format', 'lerobot', '--out', 'd'])
     assert (args.fps, args.image_size, args.video_codec) == (30, None, 'h264')
     capsys.readouterr()
+
+
+@pytest.mark.parametrize('code', [errno.EINVAL, errno.ENOSYS])
+def test_without_an_atomic_exchange_the_swap_falls_back_to_two_renames(tmp_path, monkeypatch,
+                                                                        code):
+    class NoExchange:   # a file system (NFS, ...) without renameat2's RENAME_EXCHANGE
+        @staticmethod
+        def renameat2(*_args):
+            return -1
+    monkeypatch.setattr(lerobot_export.ctypes, 'CDLL', lambda *a, **k: NoExchange())
+    monkeypatch.setattr(lerobot_export.ctypes, 'get_errno', lambda: code)
+    out, work = tmp_path / 'dataset', tmp_path / '.dataset.lerobot.1.part'
+    out.mkdir()
+    (out / 'old').write_text('old')
+    work.mkdir()
+    (work / 'new').write_text('new')
+    lerobot_export._swap(str(work), str(out))
+    assert sorted(os.listdir(out)) == ['new'] and sorted(os.listdir(tmp_path)) == ['dataset']
+
+
+def test_another_failure_of_the_swap_leaves_the_dataset_as_it_was(tmp_path, monkeypatch):
+    class Failing:
+        @staticmethod
+        def renameat2(*_args):
+            return -1
+    monkeypatch.setattr(lerobot_export.ctypes, 'CDLL', lambda *a, **k: Failing())
+    monkeypatch.setattr(lerobot_export.ctypes, 'get_errno', lambda: errno.EIO)
+    out, work = tmp_path / 'dataset', tmp_path / '.dataset.lerobot.1.part'
+    out.mkdir()
+    (out / 'old').write_text('old')
+    work.mkdir()
+    with pytest.raises(OSError):
+        lerobot_export._swap(str(work), str(out))
+    assert sorted(os.listdir(out)) == ['old']

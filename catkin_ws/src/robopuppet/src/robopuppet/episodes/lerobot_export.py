@@ -9,6 +9,7 @@ folder, and the dataset in DIR stays as it was; a killed run's folder is removed
 An episode that cannot be exported gets an error line and is left out; the others go in.
 """
 import ctypes
+import errno
 import os
 import shutil
 
@@ -254,10 +255,18 @@ def _swap(work, out):
         return
     libc = ctypes.CDLL(None, use_errno=True)
     at_fdcwd, rename_exchange = -100, 2
-    if libc.renameat2(at_fdcwd, work.encode(), at_fdcwd, out.encode(), rename_exchange) != 0:
-        errno = ctypes.get_errno()
-        raise OSError(errno, 'cannot swap %s into %s: %s' % (work, out, os.strerror(errno)))
-    shutil.rmtree(work)  # now the old dataset's links
+    if libc.renameat2(at_fdcwd, work.encode(), at_fdcwd, out.encode(), rename_exchange) == 0:
+        shutil.rmtree(work)  # now the old dataset's links
+        return
+    code = ctypes.get_errno()
+    if code not in (errno.EINVAL, errno.ENOSYS, errno.EOPNOTSUPP):
+        raise OSError(code, 'cannot swap %s into %s: %s' % (work, out, os.strerror(code)))
+    # A file system without the exchange (e.g. NFS): two renames; between them DIR is absent
+    # for an instant, never half-written, and the old dataset is kept aside until then.
+    aside = work + '.old'
+    os.rename(out, aside)
+    os.rename(work, out)
+    shutil.rmtree(aside)
 
 
 def _remove_stale(out):
