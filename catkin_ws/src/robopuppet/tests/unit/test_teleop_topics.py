@@ -74,5 +74,5 @@ def test_on_shutdown_a_last_teleop_state_says_nothing_follows_and_why(
     last = sent_on(NS + '/' + interface.TELEOP_STATE)[-1]
     assert (last.state, last.opmode) == (interface.FAULT, interface.FEEL)
     assert last.detail.startswith('arm_R stopped: %s' % why)
-    assert last.detail.endswith('; Baxter holds where it is until arm_R runs again')
+    assert last.detail.endswith('; Baxter stops at its last command until arm_R runs again')
     assert logged[-1] == (level, last.detail)

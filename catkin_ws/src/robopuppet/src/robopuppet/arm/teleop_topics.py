@@ -53,9 +53,10 @@ class TeleopTopics:
 
     def shut_down(self):
         """Tell the operator host why nothing follows any more: a last teleop_state (fault)
-        and a log line; Baxter holds on its command timeout."""
+        and a log line; Baxter finishes its last position command (mode 1 has no command
+        timeout) and stays there."""
         master_gone = not answers(rosgraph.get_master_uri())
-        detail = ('%s stopped: %s; Baxter holds where it is until %s runs again' % (
+        detail = ('%s stopped: %s; Baxter stops at its last command until %s runs again' % (
             self._name, 'the ROS master does not answer (roslaunch stops its nodes with it)'
             if master_gone else 'shut down', self._name))
         (rospy.logwarn if master_gone else rospy.loginfo)('%s', detail)
