@@ -10,7 +10,8 @@ Data flows from the puppet to Baxter:
 |--------------|------------------------------|--------------------------------------------------|
 | (top level)  | tables                       | interface (names, enumerations, timing), settings |
 |              |                              | (the joint settings and their rules), params,    |
-|              |                              | baxter_description (URDF), periodic, float32     |
+|              |                              | baxter_description (URDF), periodic, float32,    |
+|              |                              | link_silence (stuck link connections)            |
 | config/      | tables                       | config_X: ini store, settings keeper, atomic file |
 | protocol/    | tables                       | serial_X: frames, link, state sets, serial core  |
 | world/       | tables                       | shape files (world, zones), the arm as capsules, |

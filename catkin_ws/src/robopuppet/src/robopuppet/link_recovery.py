@@ -5,57 +5,21 @@ watches its node's subscriptions to publishers never quiet for long. When one ha
 nothing for SILENT_S after it had received something, it asks the publisher's node for its pid
 over a new connection (one without TCP's backoff) every PROBE_PERIOD_S; once the node answers,
 every connection of this node to a publisher on that host is made anew through ROS's own slave
-API (publisherUpdate); a publisher quiet of its own accord costs one reconnection
-(StuckConnections). connections() reads rospy 1.15's internals: rospy has no public API for them.
+API (publisherUpdate); a reconnection that brings nothing is tried again a few times, and a
+publisher quiet of its own accord costs only those (link_silence.StuckConnections). connections() reads rospy 1.15's internals: rospy has no public API for them.
 """
 import threading
 import time
-import urllib.parse
 import xmlrpc.client
 
 import rospy
 from rospy.impl.registration import get_topic_manager
 
+from robopuppet.link_silence import StuckConnections, host_of
 from robopuppet.periodic import Guard, Loop
 
-SILENT_S = 1.0          # a watched connection silent this long may be stuck
 PROBE_PERIOD_S = 0.25   # how often a silent connection's publisher is asked, and the check runs
 PROBE_TIMEOUT_S = 0.5   # a probe without an answer within this: the link is still down
-
-
-class StuckConnections:
-    """Which watched connections received nothing for silent_s after receiving something (pure).
-
-    A connection is a key (topic, publisher URI) with a connection identity and a received
-    byte count; a new identity (a new connection) starts unarmed: it is reported only after its
-    first bytes and silent_s without more.
-    """
-
-    def __init__(self, silent_s=SILENT_S):
-        self._silent_s = silent_s
-        self._seen = {}  # key -> (identity, bytes, time of the last change, armed)
-
-    def update(self, now_s, counts):
-        """Take {key: (identity, bytes received)} of the watched connections now; return the
-        keys silent for silent_s, with how long: {key: seconds}."""
-        seen, stuck = {}, {}
-        for key, (identity, count) in counts.items():
-            old = self._seen.get(key)
-            if old is None or old[0] != identity:
-                seen[key] = (identity, count, now_s, count > 0)
-            elif count != old[1]:
-                seen[key] = (identity, count, now_s, True)
-            else:
-                seen[key] = old
-                if old[3] and now_s - old[2] >= self._silent_s:
-                    stuck[key] = now_s - old[2]
-        self._seen = seen
-        return stuck
-
-
-def host_of(uri):
-    """Return the host name or address of a ROS node's XML-RPC URI."""
-    return urllib.parse.urlparse(uri).hostname or ''
 
 
 class _TimeoutTransport(xmlrpc.client.Transport):
@@ -129,6 +93,8 @@ class LinkRecovery:
                               'to %s is back and its connections stuck; connecting anew',
                               self._name, topic, silent_s, host)
                 self.reconnect(host)
+                with self._lock:
+                    self._stuck.reconnected([key for key in counts if host_of(key[1]) == host])
 
     def reconnect(self, host):
         """Close every subscriber connection of this node to a publisher on host and ask rospy
