@@ -24,6 +24,8 @@ Data flows from the puppet to Baxter:
 | puppet_sim/  | tables, protocol             | puppet_sim_X: the simulated 2020 firmware        |
 | ghost/       | tables, arm                  | ghost: the puppet's pose on a translucent Baxter |
 | episodes/    | tables, arm, config          | recorder, replay, the exporter of episodes       |
+| assist/      | tables, arm, world,          | assist: simulated tasks, demonstrations,         |
+|              | episodes, baxter_sim         | learners, train_assist, the assist node          |
 | gui/         | tables, arm, calibration,    | gui_X: the Qt window and its ROS client          |
 |              | config, episodes, puppet_sim |                                                  |
 
@@ -62,12 +64,14 @@ ROS adapters besides the nodes:
 - `episodes.robot_player`: playback onto the robot
 - `episodes.recorder_claim`: the recorder's folder lock and service, claimed before it registers
 - `episodes.recorder_params`: the recorder's ~parameters and the metadata's facts of the system
+- `assist.sim_hands`: the operator's hands on the simulated puppets (demonstrate, rostests)
 - `cameras.camera_topics`: a camera's image topics and fixed cameras' static frames
 - `cameras.node_loops`: the loops of a camera node and its /diagnostics
 - `cameras.camera_services`: sim_cameras' Baxter camera services and its cameras' topics
 - `gui.puppet_client`: the GUI's ROS client: services and their answers
 - `gui.state_topics`: the GUI's subscriptions of one arm's state
 - `gui.command_topics`: the GUI's publishers of one arm's commands
+- `gui.assist_topics`: the GUI's subscription of the assist's state
 - `gui.camera_client`: the camera pane's ROS client
 
 tests/unit/test_layout.py reads both lists above and holds the tree to them: the imports, and

@@ -30,6 +30,8 @@ URDF_PATH = urdf_path(os.path.abspath(os.path.join(os.path.dirname(__file__), '.
 # Puppet joint J drives the J-th of these: shoulder s0 s1, elbow e0 e1, wrist w0 w1 w2.
 ARM_JOINT_SUFFIXES = ('s0', 's1', 'e0', 'e1', 'w0', 'w1', 'w2')
 # The pose the Rethink SDK calls neutral (rad), the same for both arms.
+# Baxter's default mode-1 speed ratio of the URDF velocity limits (Rethink's SDK 1.2.0 limb.py)
+POSITION_SPEED_RATIO = 0.3
 NEUTRAL_POSE = {'s0': 0.0, 's1': -0.55, 'e0': 0.0, 'e1': 0.75, 'w0': 0.0, 'w1': 1.26, 'w2': 0.0}
 BASE_FRAME = 'base'
 # Joints the real robot lists in /robot/joint_states although they do not move here.

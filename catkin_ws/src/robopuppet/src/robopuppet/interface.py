@@ -82,6 +82,14 @@ SIM_HAND_TORQUE = 'hand_torque'  # sensor_msgs/JointState: effort = the hand's t
 SIM_LINE_NOISE = 'line_noise'
 SIM_DEVICE_CONFIG, SIM_DEVICE_OPMODE = 'device_config', 'device_opmode'
 DIAGNOSTICS = '/diagnostics'
+# The assist (robopuppet.assist): one Baxter arm predicted from the other's motion.
+ASSIST_TARGET = 'assist_target'  # robopuppet_msgs/AssistTarget, relative to the leader's puppet_ns
+# sensor_msgs/JointState, relative to puppet_ns of the follower arm's side: the predicted pose
+# (Baxter's joint names), shown by the assist's ghost
+ASSIST_PREDICTION = 'assist_prediction'
+ASSIST_STATE = '/puppet/assist_state'      # robopuppet_msgs/AssistState, latched (assist)
+ASSIST_COMMAND = '/puppet/assist_command'  # std_msgs/String: 'stop' or 'start' (the GUI's)
+ASSIST_COMMANDS = ('stop', 'start')
 REPLAY_STOP = '/puppet/replay_stop'  # std_msgs/Empty: stop a running replay (the GUI's Stop)
 RECORD_SERVICE = '/puppet/record'        # robopuppet_msgs/Record: start or stop an episode
 RECORDING_TOPIC = '/puppet/recording'    # robopuppet_msgs/RecordingState, latched (recorder)

@@ -20,12 +20,13 @@ RELATIVE = {interface.JOINT_STATES, interface.USER_BUTTON, interface.HEARTBEAT, 
             interface.TELEOP_STATE, interface.GET_CONFIG, interface.SET_CONFIG,
             interface.SET_ARM_CONFIG, interface.STORED_SETTINGS, interface.ACTIVE_SETTINGS,
             interface.LINK_PING, interface.LINK_ECHO, interface.LINK_STATE,
-            interface.CALIBRATION_TARGET}
+            interface.CALIBRATION_TARGET, interface.ASSIST_TARGET, interface.ASSIST_PREDICTION}
 ABSOLUTE = {interface.DIAGNOSTICS, interface.REPLAY_STOP, interface.ZONE_MARKERS,
             interface.ZONE_HOLD_MARKERS, interface.ROOM_MARKERS, interface.ROBOT_STATE,
             interface.ROBOT_JOINT_STATES,
             interface.SET_SUPER_ENABLE, interface.SET_SUPER_RESET, interface.SET_SUPER_STOP,
-            interface.RECORD_SERVICE, interface.RECORDING_TOPIC}
+            interface.RECORD_SERVICE, interface.RECORDING_TOPIC, interface.ASSIST_STATE,
+            interface.ASSIST_COMMAND}
 SIM = {interface.SIM_HAND, interface.SIM_BUTTON, interface.SIM_GRIPPERS, interface.SIM_CONTROL,
        interface.SIM_HAND_TORQUE, interface.SIM_LINE_NOISE, interface.SIM_DEVICE_CONFIG,
        interface.SIM_DEVICE_OPMODE}

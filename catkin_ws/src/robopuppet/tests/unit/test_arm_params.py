@@ -56,3 +56,20 @@ def test_the_heartbeat_timeout_reaches_the_puppet_watch(node):
     core, _, _ = make()
     assert core.teleop.puppet.heartbeat_timeout_s == 1.5
     assert interface.HEARTBEAT_TIMEOUT_S != 1.5
+
+
+def test_the_leash_is_on_by_default_and_0_turns_it_off(node):
+    params, _ = node
+    assert make()[0].teleop.drive.leash_s == pytest.approx(0.1)
+    params['~leash'] = 0
+    assert make()[0].teleop.drive.leash_s == 0.0
+    params['~leash'] = 0.05
+    assert make()[0].teleop.drive.leash_s == pytest.approx(0.05)
+
+
+@pytest.mark.parametrize('value', [-0.1, float('nan'), float('inf'), False, 'short'])
+def test_a_negative_or_non_finite_leash_stops_the_node(node, value):
+    params, _ = node
+    params['~leash'] = value
+    with pytest.raises(ValueError, match='~leash'):
+        make()

@@ -12,15 +12,14 @@ from robopuppet import interface as ifc, settings
 from robopuppet.arm import arm_params, command_loop, link_topics, teleop_topics
 from robopuppet.link_recovery import LinkRecovery
 from robopuppet.periodic import Guard
-from robopuppet_msgs.msg import ArmSettings, TeleopState
+from robopuppet_msgs.msg import ArmSettings, AssistTarget, TeleopState
 
 
 class ArmNode:
     """Wire robopuppet.arm.controller.ArmController to its topics: each topic to its input.
 
     Every controller call is made under one lock; steps run on fresh puppet joint states and at
-    least at ~command_rate, and their actions go out, through arm.command_loop (a watchdog
-    faults a stalled loop).
+    least at ~command_rate; arm.command_loop sends their actions (its watchdog faults a stall).
 
     ROS API (<ns>: interface.puppet_ns(~arm_side), e.g. /puppet/arm_R; <side>: left, right):
       Subscribes: <ns>/joint_states (by name joint_0..joint_6; tagged in header.frame_id with
@@ -28,7 +27,8 @@ class ArmNode:
         <ns>/user_btn (button 1 cycles the opmode limp -> hold -> feel -> limp), <ns>/gripper_3
         (the end-piece button), <ns>/opmode (the opmode others set, adopted; its own messages
         and repeats change nothing), <ns>/stored_settings (config_X's, latched: a change of an
-        angle setting stops following), the other puppet's teleop_state, /robot/state,
+        angle setting stops following), <ns>/assist_target (the assist's prediction of the other
+        Baxter arm: arm.assist_follow), the other puppet's teleop_state, /robot/state,
         /robot/joint_states, /robot/end_effector/<side>_gripper/state.
       Publishes: /robot/limb/<side>/joint_command (position mode), /robot/set_super_enable,
         /robot/end_effector/<side>_gripper/command, <ns>/opmode (limp, hold, feel),
@@ -56,14 +56,15 @@ class ArmNode:
         core, self._report = self._core, teleop_topics.TeleopTopics(ns, zones, self._name)
         self._steps = command_loop.CommandLoop(side, core, self._lock, self._guard, period_s,
                                                self._report.publish, self._name)
-        (other,) = set(ifc.PUPPET_SIDES) - {side}
         inputs = [  # (topic, type, take(monotonic now, message)): the controller's inputs
             (ns + '/' + ifc.STORED_SETTINGS, ArmSettings, self._on_stored_settings),
             (ns + '/' + ifc.HEARTBEAT, Empty, lambda t, m: core.on_heartbeat(t)),
             (ns + '/' + ifc.USER_BUTTON, UInt8, lambda t, m: core.on_button(m.data)),
             (ifc.gripper_topic(side, ifc.END_PIECE_GRIPPER), Float32,
              lambda t, m: core.on_end_piece(m.data)),
-            (ifc.puppet_ns(other) + '/' + ifc.TELEOP_STATE, TeleopState,
+            (ns + '/' + ifc.ASSIST_TARGET, AssistTarget, lambda t, m: core.on_assist_target(
+                t, m.side, m.position, m.gripper_closed, m.hold, m.detail)),
+            (ifc.puppet_ns(*set(ifc.PUPPET_SIDES) - {side}) + '/' + ifc.TELEOP_STATE, TeleopState,
              lambda t, m: core.on_other_puppet(t, m.follow_left, m.follow_right)),
             (ifc.ROBOT_STATE, AssemblyState,
              lambda t, m: core.on_robot_state(t, m.enabled, m.stopped, m.error)),
@@ -98,14 +99,15 @@ class ArmNode:
             self._report.shut_down()
 
     def _call(self, take, *args):
-        """Return take(now, *args) with the lock held (now: monotonic s)."""
+        """Call take(now, *args) under the lock (now: monotonic s); log a problem it returns."""
         with self._lock:
-            return take(time.monotonic(), *args)
+            problem = take(time.monotonic(), *args)
+        if problem:
+            rospy.logwarn_throttle(5, '%s: %s', self._name, problem)
 
     def _on_joint_states(self, now, msg, received_s):
-        taken, problem = self._core.on_joint_states(now, msg.name, msg.position,
-                                                    msg.header.stamp.to_sec(), received_s,
-                                                    msg.header.frame_id)
+        taken, problem = self._core.on_joint_states(
+            now, msg.name, msg.position, msg.header.stamp.to_sec(), received_s, msg.header.frame_id)
         if problem:
             rospy.logwarn_throttle(5, '%s: %s', self._name, problem)
         if taken:  # act on fresh data at once
@@ -143,7 +145,6 @@ def main():
     except (KeyError, ValueError) as error:
         rospy.logfatal('arm node cannot start: %s', error)
         raise SystemExit(1)
-    # What start-up made lives as long as the node: out of the cyclic collector's way, a full
-    # collection (now and then) stops every thread for ~0.2 ms instead of ~12 ms.
+    # Start-up's objects live as long as the node: a full gc then stops ~0.2 ms, not ~12 ms.
     gc.freeze()
     rospy.spin()

@@ -40,10 +40,11 @@ ArmCommand = collections.namedtuple('ArmCommand', 'side names angles')
 ArmCommand.__doc__ = "Command Baxter's arm on `side` to 7 joint positions (rad) of its joint names."
 Report = collections.namedtuple('Report', 'changed state follow_left follow_right opmode '
                                           'heartbeat_age_s detail zone_left zone_right '
-                                          'diag_name hardware_id level message values')
+                                          'diag_name hardware_id level message values '
+                                          'assist_left assist_right', defaults=(False, False))
 Report.__doc__ = """The teleop report: changed (it differs from the last one: log it), the
-TeleopState fields, and the DiagnosticStatus's name, hardware_id, level ('OK', 'WARN' or
-'ERROR'), message and values [(key, text)]."""
+TeleopState fields, the DiagnosticStatus's name, hardware_id, level ('OK', 'WARN' or 'ERROR'),
+message and values [(key, text)], and last TeleopState's assist_left and assist_right."""
 
 
 class ArmController:
@@ -61,14 +62,16 @@ class ArmController:
         age_bound: the timing.AgeBound on puppet samples' age.
         zone_guards: {side: world.zones.ZoneGuard} that cut commands at keep-out zones (see
             teleop.Teleop).
+        leash_s: how far a command may lead Baxter, in s of mode-1 travel (arm.leash; 0: none).
     """
 
     def __init__(self, side, limits, timing, heartbeat_timeout_s, approach_speed_rad_s,
-                 command_period_s, guard, t, age_bound, zone_guards=None):
+                 command_period_s, guard, t, age_bound, zone_guards=None, leash_s=0.0):
         self.teleop = Teleop(side, limits, state_timeout_s=timing.timeout_s,
                              heartbeat_timeout_s=heartbeat_timeout_s,
                              approach_speed_rad_s=approach_speed_rad_s,
-                             command_period_s=command_period_s, zone_guards=zone_guards)
+                             command_period_s=command_period_s, zone_guards=zone_guards,
+                             leash_s=leash_s)
         self.baxter = BaxterUpkeep()
         self.link = LinkWatch(side, age_bound, timing.timeout_s)
         self.angle_settings = AngleSettingsWatch()
@@ -165,6 +168,12 @@ class ArmController:
         """Take which Baxter arms the other puppet drives (its teleop_state)."""
         self.teleop.on_other_puppet(t, follow_left, follow_right)
 
+    def on_assist_target(self, t, side, positions, gripper_closed, hold, detail):
+        """Take the assist's target for Baxter's `side` arm, received at t; return '' or why it
+        was refused (to log): for this puppet's own arm, an unknown arm, not 7 finite angles
+        (arm.assist_follow; counted in the report's refused_assist_targets)."""
+        return self.teleop.on_assist_target(t, side, positions, gripper_closed, hold, detail)
+
     def on_robot_state(self, t, enabled, stopped, error):
         """Take /robot/state's flags."""
         self.baxter.on_robot_state(t, enabled, stopped, error)
@@ -187,7 +196,8 @@ class ArmController:
 
     def on_gripper_state(self, t, side, gripper_id, calibrated):
         """Take a gripper's state; return the actions it calls for ([] or a calibrate)."""
-        holding = self.teleop.following[side] and self.teleop.gripper_closed
+        holding = (self.teleop.following[side] and self.teleop.gripper_closed
+                   or self.teleop.assist.gripper_closed(side))
         calibrate = self.baxter.on_gripper_state(t, side, gripper_id, calibrated, holding)
         return [calibrate] if calibrate else []
 
@@ -250,9 +260,10 @@ class ArmController:
     def _report(self, t):
         tp = self.teleop
         follow_left, follow_right = (tp.following[side] for side in BAXTER_SIDES)
+        assist_left, assist_right = (tp.assist.assisted[side] for side in BAXTER_SIDES)
         zone_left, zone_right = (tp.zones.zone(side) for side in BAXTER_SIDES)
         snapshot = (tp.state, follow_left, follow_right, tp.opmode, tp.detail, zone_left,
-                    zone_right)
+                    zone_right, assist_left, assist_right)
         changed = snapshot != self._reported
         if not changed and t - self._report_t < STATE_PERIOD_S:
             return None
@@ -263,6 +274,7 @@ class ArmController:
             message += '; ' + late.describe()
         values = [
             ('state', tp.state), ('follow_left', follow_left), ('follow_right', follow_right),
+            ('assist_left', assist_left), ('assist_right', assist_right),
             ('opmode', tp.opmode), ('zone_left', zone_left), ('zone_right', zone_right),
             ('heartbeat_age_s', '%.2f' % tp.heartbeat_age(t)),
             ('comm_rate_hz', '%g' % self.timing.comm_rate_hz),
@@ -273,8 +285,9 @@ class ArmController:
             ('ignored_robot_poses', tp.robot.ignored_poses),
             ('refused_joint_states', self.refused_states),
             ('refused_for_angle_settings', self.angle_settings.refused),
+            ('refused_assist_targets', tp.assist.refused),
             ('callback_errors', self.guard.errors), ('last_error', self.guard.last_error)]
         return Report(changed, tp.state, follow_left, follow_right, tp.opmode,
                       tp.heartbeat_age(t), tp.detail, zone_left, zone_right, self.diag_name,
                       self.hardware_id, level, message,
-                      [(key, str(value)) for key, value in values])
+                      [(key, str(value)) for key, value in values], assist_left, assist_right)

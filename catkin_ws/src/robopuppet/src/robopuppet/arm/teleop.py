@@ -16,14 +16,18 @@ what the puppet's angles mean: arm.angle_settings) the arm is commanded to stay 
 measures it at once, so it does not coast on to a stale target, and following resumes only
 after fresh data and a new press; a Baxter arm that the other puppet drives is not
 taken, and if both puppets claim one at once, both let it go. In feel the puppet goes limp on a
-fault, without Baxter or without a fresh Baxter pose (see robopuppet.arm.opmode).
+fault, without Baxter or without a fresh Baxter pose (see robopuppet.arm.opmode). The arm that
+robopuppet's assist drives through this controller (arm.assist_follow) moves by the same rules,
+holds where it is while the assist says hold, stops on every stop and goes to the other puppet.
 """
 import collections
 import math
 
 from robopuppet.arm import timing
+from robopuppet.arm.arm_drive import ArmDrive
+from robopuppet.arm.assist_follow import AssistFollow, who_drives
 from robopuppet.arm.baxter_watch import BaxterWatch
-from robopuppet.arm.joint_motion import SpeedBudget, clamp, mirror
+from robopuppet.arm.joint_motion import mirror
 from robopuppet.arm.opmode import PuppetOpmode
 from robopuppet.arm.puppet_watch import REFUSED, PuppetWatch
 from robopuppet.arm.transitions import STOP_FOLLOWING, TRANSITIONS, events
@@ -40,8 +44,8 @@ Grip = collections.namedtuple('Grip', 'side close')
 Grip.__doc__ = "Close (close=True) or open Baxter's gripper on `side`."
 Step = collections.namedtuple('Step', 'commands actions')
 Step.__doc__ = """What to do now: commands {side: 7 joint positions rad} for the following
-arms, and for an arm that has just stopped following its measured pose (stay there); empty when
-nothing may move. actions: a list of opmode.SetOpmode, opmode.SetSetpoints and Grip, in the
+and assisted arms and, for an arm that has just stopped, its measured pose (stay there); empty
+when nothing may move. actions: a list of opmode.SetOpmode, opmode.SetSetpoints and Grip, in the
 order to carry them out."""
 
 
@@ -54,11 +58,9 @@ class Teleop:
             velocity (rad/s), in puppet joint order (see baxter_description.arm_limits).
         state_timeout_s, heartbeat_timeout_s: the puppet is silent after this long without
             joint states (default: timing.DEFAULT, at 10 Hz) or heartbeats (it beats at 1 Hz).
-        approach_speed_rad_s: joint speed while a following arm closes in on the puppet's pose
-            (capped per joint by the joint's velocity limit).
-        track_tolerance_rad: the approach ends when every joint is this close to the target.
-        command_period_s: the nominal time between commands; the speed budget holds this much
-            motion, so one command may carry speed x command_period_s at once.
+        approach_speed_rad_s, track_tolerance_rad, command_period_s, leash_s: how a following
+            arm closes in on the puppet's pose, how far one command may move and lead Baxter
+            (arm_drive.ArmDrive; leash_s 0: no leash).
         zone_guards: {side: world.zones.ZoneGuard} of the arms that keep-out zones bind: each
             command of a following arm is cut to keep Baxter's motion out of every zone, and
             the speed budget goes on from the cut command (see zone_holds).
@@ -66,23 +68,22 @@ class Teleop:
 
     def __init__(self, puppet_side, limits, state_timeout_s=timing.DEFAULT.timeout_s,
                  heartbeat_timeout_s=HEARTBEAT_TIMEOUT_S, approach_speed_rad_s=0.5,
-                 track_tolerance_rad=0.02, command_period_s=0.01, zone_guards=None):
+                 track_tolerance_rad=0.02, command_period_s=0.01, zone_guards=None,
+                 leash_s=0.0):
         self.own_side = BAXTER_SIDE[check_side(puppet_side)]
         self.limits = limits
         self.puppet = PuppetWatch(state_timeout_s, heartbeat_timeout_s)
         self.robot = BaxterWatch(limits)
         self.zones = ZoneHolds(zone_guards, self.robot)
-        self.approach_speed_rad_s = approach_speed_rad_s
-        self.track_tolerance_rad = track_tolerance_rad
-        self.command_period_s = command_period_s
+        self.drive = ArmDrive(limits, self.robot, self.zones, approach_speed_rad_s,
+                              track_tolerance_rad, command_period_s, leash_s)
         self.state = NO_ROBOT
         self.detail = 'waiting for Baxter'
         self.following = {side: False for side in BAXTER_SIDES}
-        self.tracking = {side: False for side in BAXTER_SIDES}  # False while approaching
+        self.tracking = self.drive.tracking  # {side: False while approaching}
         self.gripper_closed = False
         self._fault_t = self._fault_why = None
         self._robot_ok = False
-        self._motion = {}          # side -> SpeedBudget holding the last command
         self._claim_t = {side: None for side in BAXTER_SIDES}  # the other puppet's last claim
         self._button = 0
         self._pressed = []         # button presses not yet acted on
@@ -91,6 +92,7 @@ class Teleop:
         self._failure = None       # why the arm controller failed, until the next step
         self._new_meaning = ''     # which angle settings changed, until the next step
         self.puppet_mode = PuppetOpmode(self.own_side, self.robot)
+        self.assist = AssistFollow(self.own_side)
 
     @property
     def opmode(self):
@@ -141,6 +143,10 @@ class Teleop:
         for side, claimed in zip(BAXTER_SIDES, (follow_left, follow_right)):
             self._claim_t[side] = t if claimed else None
 
+    def on_assist_target(self, t, side, positions, gripper_closed, hold, detail):
+        """Take an assist target (AssistFollow.on_target); return '' or why it was refused."""
+        return self.assist.on_target(t, side, positions, gripper_closed, hold, detail)
+
     def on_robot(self, enabled):
         """Take whether Baxter is present and enabled."""
         self._robot_ok = enabled
@@ -172,6 +178,7 @@ class Teleop:
             return
         if new in STOP_FOLLOWING:
             self.following = {side: False for side in BAXTER_SIDES}
+            self.assist.release_all()
         if new == FAULT:
             self._fault_t, self._fault_why = self._last_step_t, detail
         self.state, self.detail = new, detail
@@ -188,28 +195,34 @@ class Teleop:
         self._pressed = []
 
     def _toggle_follow(self, side, t):
-        if self.following[side]:
+        if self.following[side] or self.assist.assisted[side]:
             self.following[side] = False
+            self.assist.release(side)
         elif self._claimed(side, t):
             self.detail = 'the other puppet drives Baxter\'s %s arm already' % side
             return
-        elif side in self.robot.pose:
-            self.following[side], self.tracking[side] = True, False
-            self._motion[side] = SpeedBudget(clamp(self.robot.pose[side], self.limits[side]),
-                                             self.command_period_s, t)
+        elif side in self.robot.pose:  # the assist's arm, when it has a target; else puppet's
+            self.following[side] = not self.assist.engage(side, t)
+            self.drive.start(side, t)
         self._after_follow_change('')
 
     def _stop_for_new_meaning(self):
         what, self._new_meaning = self._new_meaning, ''
-        buttons = [str(b) for b, side in sorted(FOLLOW_BUTTON.items()) if self.following[side]]
+        buttons = [str(b) for b, side in sorted(FOLLOW_BUTTON.items()) if self.driven()[side]]
         if what and buttons:
             self.following = {side: False for side in BAXTER_SIDES}
+            self.assist.release_all()
             self._fire('follow_off', '')
             self.detail = '%s changed: following stopped; press %s to follow again' % (
                 what, ' and '.join(buttons))
 
-    def _drop_contested_arms(self, t):
-        """Let go of any arm the other puppet claims too: both stopping is safe, both is not."""
+    def _drop_claimed_arms(self, t):
+        """Let go of any arm the other puppet claims too: both stopping is safe, both is not;
+        an arm the assist drives goes to the other puppet (a take-over: it does not let go)."""
+        for side in [s for s in BAXTER_SIDES if self.assist.assisted[s] and self._claimed(s, t)]:
+            self.assist.release(side)
+            self._after_follow_change("puppet %s took Baxter's %s arm over from the assist; " % (
+                'L' if self.own_side == 'right' else 'R', side))
         contested = [s for s in BAXTER_SIDES if self.following[s] and self._claimed(s, t)]
         for side in contested:
             self.following[side] = False
@@ -217,12 +230,15 @@ class Teleop:
             self._after_follow_change('the other puppet took Baxter\'s %s arm too: both let go; '
                                       % ' and '.join(contested))
 
+    def driven(self):
+        """Return {side: whether Baxter's arm follows this puppet or the assist through it}."""
+        return {s: self.following[s] or self.assist.assisted[s] for s in BAXTER_SIDES}
+
     def _after_follow_change(self, why):
         followers = [s for s in BAXTER_SIDES if self.following[s]]
-        self._fire('follow_on' if followers else 'follow_off', '')
-        self.detail = why + ('Baxter follows with its %s arm%s' % (
-            ' and '.join(followers), 's' if len(followers) > 1 else '')
-            if followers else 'no Baxter arm follows; press 2 or 3 to follow')
+        assisted = [s for s in BAXTER_SIDES if self.assist.assisted[s]]
+        self._fire('follow_on' if followers or assisted else 'follow_off', '')
+        self.detail = why + who_drives(followers, assisted)
 
     def _grip_actions(self, actions):
         reading = self._grip_reading
@@ -237,49 +253,30 @@ class Teleop:
         actions.extend(Grip(side, self.gripper_closed) for side in BAXTER_SIDES
                        if self.following[side])
 
-    def _commands_now(self, t):
+    def _commands_now(self, t, actions):
         commands = {}
         for side in BAXTER_SIDES:
-            if not self.following[side]:
-                continue
-            angles = self.puppet.angles if side == self.own_side else mirror(self.puppet.angles)
-            target = clamp(angles, self.limits[side])
-            speeds = [lim.velocity if self.tracking[side]
-                      else min(self.approach_speed_rad_s, lim.velocity)
-                      for lim in self.limits[side]]
-            before = self._motion[side].command
-            command = self.zones.cut(side, t, before, self._motion[side].move(target, speeds, t))
-            self._motion[side].command = command
-            if max(abs(c - g) for c, g in zip(command, target)) <= self.track_tolerance_rad:
-                self.tracking[side] = True
-            commands[side] = command
-        return commands
-
-    def _stay_commands(self, t, was_following):
-        """Return {side: where Baxter's arm is now} for each arm that has just stopped following.
-
-        Baxter in position mode goes on to the last command it got; commanding where it is
-        stops it at once instead of after its command timeout (where it is now: BaxterWatch.now).
-        Not while Baxter is absent or disabled: its pose may be stale then.
-        """
-        if not self._robot_ok:
-            return {}
-        commands = {}
-        for side in BAXTER_SIDES:
-            if was_following[side] and not self.following[side] and side in self.robot.pose:
-                commands[side] = self.zones.stay(side, t, self.robot.now(side, t))
+            if self.following[side]:
+                angles = self.puppet.angles if side == self.own_side else mirror(
+                    self.puppet.angles)
+                commands[side] = self.drive.toward(side, t, angles)
+            elif self.assist.assisted[side]:
+                angles, changed, grip = self.assist.plan(side, t)
+                actions.extend([Grip(side, grip)] if grip is not None else [])
+                commands[side] = (self.drive.hold(side, t, changed) if angles is None
+                                  else self.drive.toward(side, t, angles))
         return commands
 
     def step(self, t):
         """Advance to time t (s) and return the Step to carry out now."""
         self._last_step_t = t
-        was_following = dict(self.following)
+        was_driven = self.driven()
         failure, self._failure = self._failure, None
         for event, detail in events(t, self.state, self._fault_t, self._robot_ok, self.puppet,
                                     failure):
             self._fire(event, detail)
         actions = []
-        self._drop_contested_arms(t)
+        self._drop_claimed_arms(t)
         self._act_on_presses(t, actions)
         self._stop_for_new_meaning()   # after the presses: no press of this step outlives it
         went_limp = self.puppet_mode.step(t, self.state, self.following, self.puppet.state_t,
@@ -287,13 +284,15 @@ class Teleop:
         if went_limp:
             self.detail = '%s; %s' % (self.detail, went_limp)
         self._grip_actions(actions)
-        held_before = self.zones.holding()
-        commands = self._commands_now(t) if self.state == FOLLOWING else {}
-        self.zones.forget(self.following)
-        held = self.zones.detail()
+        held_before = self.zones.holding() or any(self.assist.holding.values())
+        commands = self._commands_now(t, actions) if self.state == FOLLOWING else {}
+        self.zones.forget(self.driven())
+        held = '; '.join(filter(None, (self.zones.detail(), self.assist.hold_detail(t))))
         if held:
             self.detail = held
         elif held_before and self.state == FOLLOWING:
             self._after_follow_change('')   # the zone said so: say who follows again
-        commands.update(self._stay_commands(t, was_following))
+        stopped = [s for s in BAXTER_SIDES if was_driven[s] and not self.driven()[s]]
+        if self._robot_ok:   # not to a Baxter absent or disabled: its pose may be stale then
+            commands.update({s: self.drive.stay(s, t) for s in stopped if s in self.robot.pose})
         return Step(commands, actions)

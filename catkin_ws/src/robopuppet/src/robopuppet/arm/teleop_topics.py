@@ -18,7 +18,8 @@ class TeleopTopics:
     """Publish the controller's reports, and a last one on shutdown.
 
     Publishes <ns>/teleop_state (robopuppet_msgs/TeleopState, latched; zone_left/zone_right name
-    a zone holding an arm back, the detail its zone and link), /diagnostics (name 'arm_X:
+    a zone holding an arm back, the detail its zone and link; assist_left/assist_right the arm
+    the assist drives through arm_X), /diagnostics (name 'arm_X:
     teleoperation', hardware_id <ns>), interface.ZONE_MARKERS (/robopuppet/keepout_zones,
     visualization_msgs/MarkerArray, latched) and interface.ZONE_HOLD_MARKERS (the zones holding an
     arm back highlighted, on a change; arm.zone_topics).
@@ -43,7 +44,8 @@ class TeleopTopics:
         self._opmode = r.opmode
         msg = TeleopState(state=r.state, follow_left=r.follow_left, follow_right=r.follow_right,
                           opmode=r.opmode, heartbeat_age=r.heartbeat_age_s, detail=r.detail,
-                          zone_left=r.zone_left, zone_right=r.zone_right)
+                          zone_left=r.zone_left, zone_right=r.zone_right,
+                          assist_left=r.assist_left, assist_right=r.assist_right)
         msg.header.stamp = rospy.Time.now()
         self._state.publish(msg)
         self._zone_view.show(time.monotonic(), r.zone_left, r.zone_right)  # never raises

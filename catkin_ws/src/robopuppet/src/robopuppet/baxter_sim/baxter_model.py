@@ -25,7 +25,7 @@ from robopuppet.baxter_sim.baxter_joint_command import (POSITION_MODE, TORQUE_MO
 from robopuppet.baxter_sim.baxter_refusals import CommandError, NotEnabledError, brief, finite
 from robopuppet.interface import BAXTER_SIDES
 
-DEFAULT_SPEED_RATIO = 0.3
+DEFAULT_SPEED_RATIO = bd.POSITION_SPEED_RATIO
 DEFAULT_COMMAND_TIMEOUT_S = 0.2
 # Mode 1 approaches its target as a first-order lag with this time constant (capped in speed),
 # ending on the target once within SETTLED_RAD (so a still arm stands still, as Baxter's settles).

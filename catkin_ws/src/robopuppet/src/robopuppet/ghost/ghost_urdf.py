@@ -5,7 +5,8 @@ Debian's robot_state_publisher has no tf_prefix, so a second robot in the same t
 names of its own: 'base' becomes 'ghost/base', 'right_s0' becomes 'ghost/right_s0', and so on.
 RViz's RobotModel draws our URDF's boxes and cylinders in their material colours and has no
 colour of its own per display, so the ghost (blue) and the calibration target (green) are told
-from the real Baxter by a tint: each material becomes the tint, darker for Baxter's dark parts.
+from the real Baxter by a tint: each material becomes the tint, darker for Baxter's dark parts
+(the assist's prediction, launch/assist.launch: orange).
 Pure: XML text in, XML text out. Also the executable nodes/ghost_urdf, which prints the ghost
 description for a launch file's <param command="...">.
 """
@@ -21,8 +22,8 @@ UNSUPPORTED = ('gazebo', 'transmission')
 
 
 # Tints by name (launch/ghost.launch gives the name): the puppet's ghost blue, the calibration
-# target green; the real Baxter keeps its red and black.
-TINTS = {'ghost': (0.15, 0.45, 1.0), 'target': (0.2, 0.85, 0.25)}
+# target green, the assist's prediction orange; the real Baxter keeps its red and black.
+TINTS = {'ghost': (0.15, 0.45, 1.0), 'target': (0.2, 0.85, 0.25), 'assist': (1.0, 0.55, 0.1)}
 SHADE_FLOOR = 0.45                # a black part gets 45 % of the tint, a white one all of it
 
 

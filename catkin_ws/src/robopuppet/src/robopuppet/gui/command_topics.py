@@ -1,5 +1,5 @@
 """The GUI's publishers of one puppet arm: its opmode and setpoints, the calibration target, a
-replay's stop."""
+replay's stop, the assist's stop and start."""
 import math
 import reprlib
 
@@ -17,7 +17,8 @@ class CommandTopics:
     Publishes (under <ns> = /puppet/arm_<side>): <ns>/opmode (std_msgs/String),
         <ns>/joint_J/setpoint (std_msgs/Float32), <ns>/calibration_target
         (sensor_msgs/JointState, interface.CALIBRATION_TARGET); interface.REPLAY_STOP
-        (std_msgs/Empty) on stop_replay().
+        (std_msgs/Empty) on stop_replay(); interface.ASSIST_COMMAND (std_msgs/String, 'stop' or
+        'start') on command_assist().
     """
 
     def __init__(self, side, arm_state):
@@ -32,6 +33,7 @@ class CommandTopics:
         self._target_pub = rospy.Publisher('%s/%s' % (ns, interface.CALIBRATION_TARGET), JointState,
                                            queue_size=1)
         self._replay_stop_pub = rospy.Publisher(interface.REPLAY_STOP, Empty, queue_size=1)
+        self._assist_pub = rospy.Publisher(interface.ASSIST_COMMAND, String, queue_size=1)
 
     def set_opmode(self, opmode):
         """Publish the opmode: limp, hold or feel.
@@ -63,3 +65,9 @@ class CommandTopics:
         """Ask a running replay to stop (std_msgs/Empty on interface.REPLAY_STOP)."""
         self._replay_stop_pub.publish(Empty())
 
+    def command_assist(self, command):
+        """Ask the assist node to stop or start (interface.ASSIST_COMMANDS) driving its arm."""
+        if command not in interface.ASSIST_COMMANDS:
+            raise ValueError('assist command must be one of %s, got %s' % (
+                interface.ASSIST_COMMANDS, reprlib.repr(command)))
+        self._assist_pub.publish(String(command))

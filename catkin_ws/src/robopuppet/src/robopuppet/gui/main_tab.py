@@ -1,11 +1,11 @@
 """The main tab: the puppet (heartbeat, opmode, buttons, serial link), the teleop state, the link
-to the robot room, the joint and gripper tables and, beside them, the camera; below, recording."""
+to the robot room, the assist, joint and gripper tables and, beside them, the camera; recording."""
 import math
 
 from PyQt5 import QtCore, QtGui, QtWidgets
 
 from robopuppet import interface, settings
-from robopuppet.gui import camera_view, freshness, link_view, state, tracking
+from robopuppet.gui import assist_box, camera_view, freshness, link_view, state, tracking
 from robopuppet.gui.link_box import LinkBox
 from robopuppet.gui.look import (AMBER, BLUE, GREEN, GREY, RED, grey_out, number, paint, restyle,
                                  show_age)
@@ -58,7 +58,6 @@ class MainTab(QtWidgets.QWidget):
         self.detail_label = QtWidgets.QLabel()
         self.detail_label.setWordWrap(True)
         self.teleop_age_label = QtWidgets.QLabel()
-        # wrapped, so that the status column can make room for the camera
         self.button_label = QtWidgets.QLabel()
         self.limp_radio = QtWidgets.QRadioButton(interface.LIMP)
         self.hold_radio = QtWidgets.QRadioButton(interface.HOLD)
@@ -98,6 +97,7 @@ class MainTab(QtWidgets.QWidget):
         top.addWidget(self._group('Teleoperation', self.teleop_label, self.follow_label,
                                   self.detail_label, self.teleop_age_label), 2)
         self.link_box = LinkBox()
+        self.assist_box = assist_box.AssistBox(client)   # hidden until the assist reports
         top.addWidget(self.link_box, 2)
         tables = QtWidgets.QHBoxLayout()
         tables.addWidget(self._group('Joints', self.joint_table, self.tracking_label,
@@ -107,13 +107,14 @@ class MainTab(QtWidgets.QWidget):
             tables.addWidget(grippers, 2, QtCore.Qt.AlignTop)
         layout = QtWidgets.QVBoxLayout(self)
         status = QtWidgets.QVBoxLayout()
-        status.addLayout(top)
-        status.addLayout(tables)
+        for item in (top, self.assist_box, tables) if camera_pane is None else (top, tables):
+            (status.addLayout if isinstance(item, QtWidgets.QLayout) else status.addWidget)(item)
         if camera_pane is None:
             layout.addLayout(status)
-        else:  # the camera to the right, the grippers under it: the status column stays narrow
+        else:  # the assist, the camera and the grippers to the right: the joints keep their room
             self.splitter = QtWidgets.QSplitter()
-            for items in (((status, 0),), ((camera_pane, 1), (grippers, 0))):
+            for items in (((status, 0),),
+                          ((self.assist_box, 0), (camera_pane, 1), (grippers, 0))):
                 self.splitter.addWidget(QtWidgets.QWidget())
                 column = QtWidgets.QVBoxLayout(self.splitter.widget(self.splitter.count() - 1))
                 column.setContentsMargins(0, 0, 0, 0)
@@ -152,8 +153,7 @@ class MainTab(QtWidgets.QWidget):
             for column in range(len(columns)):
                 table.setItem(row, column, QtWidgets.QTableWidgetItem('—'))
         table.resizeRowsToContents()
-        # the header's size hint, not its height: the two-line Baxter header is taller than a
-        # header not yet laid out
+        # the header's size hint: the two-line Baxter header is taller than one not yet laid out
         height = table.horizontalHeader().sizeHint().height() + 2 * table.frameWidth()
         table.setFixedHeight(height + sum(table.rowHeight(r) for r in range(len(rows))))
         table.setVerticalScrollBarPolicy(QtCore.Qt.ScrollBarAlwaysOff)
@@ -198,6 +198,7 @@ class MainTab(QtWidgets.QWidget):
         self._show_teleop(snap.teleop, now_s)
         self._show_link(snap.link, now_s)
         self.link_box.refresh(snap, now_s)
+        self.assist_box.refresh(now_s)
         self.recording_box.refresh()
         if self.camera_pane is not None:
             teleop = snap.teleop
@@ -290,8 +291,7 @@ class MainTab(QtWidgets.QWidget):
         if old > LINK_STALE_S:
             text += '   (no update for %.0f s)' % old
             colour = GREY
-        # Every key value in the tooltip; on the box (narrow, its height bounded) only when the
-        # link is not OK, when they say what went wrong.
+        # Every key value in the tooltip; on the (narrow) box only when not OK: what went wrong.
         self.link_label.setToolTip('\n'.join('%s: %s' % kv for kv in link.values))
         if link.values and link.level != link_view.OK:
             text += '\n' + '   '.join('%s: %s' % kv for kv in link.values)

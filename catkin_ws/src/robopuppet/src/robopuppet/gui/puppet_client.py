@@ -12,6 +12,7 @@ from std_msgs.msg import Float32MultiArray, UInt8
 
 from robopuppet import interface, settings
 from robopuppet.episodes import recording
+from robopuppet.gui.assist_topics import AssistTopics
 from robopuppet.gui.command_topics import CommandTopics
 from robopuppet.gui.state_topics import StateTopics
 from robopuppet_msgs.msg import JointChange
@@ -33,9 +34,9 @@ RecordAnswer.__doc__ = """The recorder's answer to /puppet/record: ok (bool), er
 ''), episode (the episode's bag file)."""
 
 
-class PuppetClient(StateTopics, CommandTopics):
-    """Connect an ArmState to one puppet arm's topics and services: its state (StateTopics), its
-    commands (CommandTopics) and the services below, on one object for the GUI's widgets.
+class PuppetClient(StateTopics, CommandTopics, AssistTopics):
+    """Connect an ArmState to one puppet arm's topics and services, one object for the widgets:
+    its state (StateTopics), commands (CommandTopics), the assist's (AssistTopics), services:
 
     Calls: <ns>/get_config (robopuppet_msgs/GetConfig), <ns>/set_config
         (robopuppet_msgs/SetConfig), <ns>/set_arm_config (robopuppet_msgs/SetArmConfig),
@@ -45,6 +46,7 @@ class PuppetClient(StateTopics, CommandTopics):
     def __init__(self, side, arm_state, clock=rospy.get_time):
         StateTopics.__init__(self, side, arm_state, clock)
         CommandTopics.__init__(self, side, arm_state)
+        AssistTopics.__init__(self, clock)
         self._get_config = rospy.ServiceProxy(self._own(interface.GET_CONFIG), GetConfig)
         self._set_config = rospy.ServiceProxy(self._own(interface.SET_CONFIG), SetConfig)
         self._set_arm_config = rospy.ServiceProxy(self._own(interface.SET_ARM_CONFIG),
