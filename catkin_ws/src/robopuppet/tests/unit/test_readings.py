@@ -48,3 +48,10 @@ def test_baxter_velocities_count_only_when_there_is_one_per_name():
     assert speeds['right'] == [0.5] * 7
     _, speeds = arm_poses(right, [0.0] * 7, [0.5] * 6, BAXTER_NAMES)
     assert speeds['right'] == [0.0] * 7
+
+
+def test_garbage_names_are_cut_in_the_error_a_node_logs():
+    garbage = ['x' * 10000 for _ in range(7)]
+    with pytest.raises(ValueError) as error:
+        joint_angles(garbage, [0.0] * 7)
+    assert 'no joint_0' in str(error.value) and len(str(error.value)) < 300

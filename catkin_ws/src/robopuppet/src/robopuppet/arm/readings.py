@@ -4,6 +4,7 @@ Joints are matched by name, never by index: the puppet's joint_states name joint
 Baxter's /robot/joint_states name every joint of the robot in an order of its own.
 """
 import math
+import reprlib
 
 from robopuppet import settings
 
@@ -21,7 +22,7 @@ def joint_angles(names, positions):
     position = dict(zip(names, positions))
     missing = [n for n in settings.JOINT_NAMES if n not in position]
     if missing:
-        raise ValueError('no %s (names %s)' % (', '.join(missing), list(names)[:10]))
+        raise ValueError('no %s (names %s)' % (', '.join(missing), reprlib.repr(list(names))))
     return [float(position[n]) for n in settings.JOINT_NAMES]
 
 
