@@ -26,8 +26,12 @@ Data flows from the puppet to Baxter:
 | episodes/    | tables, arm, config          | recorder, replay, the exporter of episodes       |
 | assist/      | tables, arm, world,          | assist: simulated tasks, demonstrations,         |
 |              | episodes, baxter_sim         | learners, train_assist, the assist node          |
+| study/       | tables, arm, world, protocol,| the user-study kit: input devices in the         |
+|              | episodes, baxter_sim, assist | puppet's place, tasks, the runner, the simulated |
+|              |                              | participant                                      |
 | gui/         | tables, arm, calibration,    | gui_X: the Qt window and its ROS client          |
-|              | config, episodes, puppet_sim |                                                  |
+|              | config, episodes, puppet_sim,|                                                  |
+|              | study                        |                                                  |
 
 The subsystems meet only through ROS topics and services named in interface.py (settings reach
 serial_X as config_X's active_settings, not as an import); puppet_sim/ shares protocol/'s codec
@@ -68,11 +72,17 @@ ROS adapters besides the nodes:
 - `cameras.camera_topics`: a camera's image topics and fixed cameras' static frames
 - `cameras.node_loops`: the loops of a camera node and its /diagnostics
 - `cameras.camera_services`: sim_cameras' Baxter camera services and its cameras' topics
+- `cameras.marker_shapes`: the solid shapes a MarkerArray draws (the study's task objects)
 - `gui.puppet_client`: the GUI's ROS client: services and their answers
 - `gui.state_topics`: the GUI's subscriptions of one arm's state
 - `gui.command_topics`: the GUI's publishers of one arm's commands
 - `gui.assist_topics`: the GUI's subscription of the assist's state
+- `gui.study_topics`: the study tab's runner state, Start/Stop service and questionnaire
 - `gui.camera_client`: the camera pane's ROS client
+- `study.marker_device`: the RViz marker device's interactive marker server and feedback
+- `study.task_markers`: a study trial's RViz markers (goals, spots, object, path)
+- `study.study_topics`: the study runner's watched topics, StudyState, markers, Record calls
+- `study.participant_outputs`: the simulated participant's FIFOs, marker feedback, puppet hands
 
 tests/unit/test_layout.py reads both lists above and holds the tree to them: the imports, and
 the sizes (a ROS adapter at most 150 lines, any other module at most 300, with the exceptions

@@ -90,6 +90,22 @@ ASSIST_PREDICTION = 'assist_prediction'
 ASSIST_STATE = '/puppet/assist_state'      # robopuppet_msgs/AssistState, latched (assist)
 ASSIST_COMMAND = '/puppet/assist_command'  # std_msgs/String: 'stop' or 'start' (the GUI's)
 ASSIST_COMMANDS = ('stop', 'start')
+# The user-study kit (robopuppet.study): other input devices in the puppet's place, tasks, trials.
+STUDY_DEVICES = ('puppet', 'keyboard', 'gamepad', 'spacemouse', 'marker')
+STUDY_TASKS = ('reach_hold', 'trace', 'pick_place', 'bimanual')
+STUDY_STATE = '/puppet/study/state'    # robopuppet_msgs/StudyState, latched (study)
+STUDY_START = '/puppet/study/start'    # robopuppet_msgs/StudyStart (study; the GUI's Start, Stop)
+# robopuppet_msgs/Questionnaire: NASA-TLX and SUS answers after a device (the GUI's, to study)
+STUDY_QUESTIONNAIRE = '/puppet/study/questionnaire'
+STUDY_MARKERS = '/robopuppet/study_task'  # visualization_msgs/MarkerArray, latched (study)
+
+
+def marker_server(side):
+    """Return the namespace of a side's interactive-marker device, e.g. '/puppet/marker_R'
+    (RViz's InteractiveMarkers display: its update topic <ns>/update; feedback on <ns>/feedback)."""
+    return '/puppet/marker_%s' % check_side(side)
+
+
 REPLAY_STOP = '/puppet/replay_stop'  # std_msgs/Empty: stop a running replay (the GUI's Stop)
 RECORD_SERVICE = '/puppet/record'        # robopuppet_msgs/Record: start or stop an episode
 RECORDING_TOPIC = '/puppet/recording'    # robopuppet_msgs/RecordingState, latched (recorder)

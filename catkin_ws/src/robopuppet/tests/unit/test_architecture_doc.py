@@ -26,12 +26,14 @@ ABSOLUTE = {interface.DIAGNOSTICS, interface.REPLAY_STOP, interface.ZONE_MARKERS
             interface.ROBOT_JOINT_STATES,
             interface.SET_SUPER_ENABLE, interface.SET_SUPER_RESET, interface.SET_SUPER_STOP,
             interface.RECORD_SERVICE, interface.RECORDING_TOPIC, interface.ASSIST_STATE,
-            interface.ASSIST_COMMAND}
+            interface.ASSIST_COMMAND, interface.STUDY_STATE, interface.STUDY_START,
+            interface.STUDY_QUESTIONNAIRE, interface.STUDY_MARKERS}
 SIM = {interface.SIM_HAND, interface.SIM_BUTTON, interface.SIM_GRIPPERS, interface.SIM_CONTROL,
        interface.SIM_HAND_TORQUE, interface.SIM_LINE_NOISE, interface.SIM_DEVICE_CONFIG,
        interface.SIM_DEVICE_OPMODE}
 ROS_OWN = {'/tf_static'}   # ROS's, not ours
 NAMESPACE = interface.puppet_ns('R').replace('_R', '_X')   # what <ns> stands for
+MARKER_SERVER = interface.marker_server('R').replace('_R', '_X')   # a marker device's server
 PER_JOINT = re.compile(r'^(joint_J/(angle|voltage|enc_stat|setpoint|<setting>)|gripper_[G3])$')
 
 
@@ -57,7 +59,8 @@ def test_each_topic_of_the_table_is_the_interface_tables(name):
     if prefix == SIM_NS:
         assert name[len(prefix):] in SIM, name
     elif prefix is None:
-        assert name in ABSOLUTE | ROS_OWN | {NAMESPACE}, name
+        assert name in ABSOLUTE | ROS_OWN | {NAMESPACE, MARKER_SERVER, MARKER_SERVER + '/feedback'
+                                              }, name
 
 
 def test_each_topic_of_the_interface_table_is_in_the_document():

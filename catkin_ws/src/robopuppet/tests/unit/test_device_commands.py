@@ -125,7 +125,10 @@ def test_launch_files_say_comm_rate_does_not_set_the_firmwares_rate():
 
 
 def test_arm_launch_passes_comm_rate_to_the_serial_node():
-    root = ET.parse(os.path.join(LAUNCH_DIR, 'arm.launch')).getroot()
+    arm = ET.parse(os.path.join(LAUNCH_DIR, 'arm.launch')).getroot()
+    include = next(i for i in arm.iter('include') if i.get('file').endswith('/input.launch'))
+    assert include.get('pass_all_args') == 'true'   # arm.launch's comm_rate reaches input.launch
+    root = ET.parse(os.path.join(LAUNCH_DIR, 'input.launch')).getroot()
     serial = next(n for n in root.iter('node') if n.get('type') == 'serial_interface')
     params = {p.get('name'): p.get('value') for p in serial.iter('param')}
     assert params['comm_rate'] == '$(arg comm_rate)'

@@ -27,6 +27,8 @@ OVERRIDES = {('main_sim.launch', 'run_side_L'): 'the simulated system runs the r
 # An argument of an included file that the including file does not offer its user.
 NOT_OFFERED = {
     ('puppet.launch', 'sim_link'): 'one link per arm: sim_link_prefix names both',
+    ('puppet.launch', 'events'): "one event source per arm: input.launch's, per side",
+    ('robot.launch', 'device'): "the operator host's",
     ('operator.launch', 'max_sample_age'): "arm_X's, on the robot host",
     ('operator.launch', 'zones_file'): "arm_X's, on the robot host",
     **{('robot.launch', arg): "the operator host's" for arg in (

@@ -274,3 +274,30 @@ def test_meshes_are_closed_and_wound_outwards(mesh, volume):
     enclosed = np.einsum('ij,ij->i', triangles[:, 0], np.cross(triangles[:, 1],
                                                                 triangles[:, 2])).sum() / 6.0
     assert enclosed == pytest.approx(volume, rel=0.05)  # no face missing
+
+
+def test_a_task_object_is_drawn_where_it_is_and_moves_with_set_objects():
+    tip = DESCRIPTION.transform(neutral(), 'right_gripper')[:3, 3]
+    core = sim_cameras.SimCameras(invisible_robot(), scene.World([], None, WORLD.cameras),
+                                  WIDTH, HEIGHT, ['room_camera'])
+    core.set_positions(neutral())
+    empty = core.render('room_camera')[0].copy()
+    ball = marker_world(tip, 0.02).shapes[0]
+    core.set_objects([ball])
+    (u, v), count = red_centroid(core.render('room_camera')[0])
+    assert count >= 20
+    core.set_objects([ball._replace(xyz=tuple(tip + (0.0, 0.0, 0.2)))])  # 20 cm up: higher
+    (u_up, v_up), _ = red_centroid(core.render('room_camera')[0])
+    assert v_up < v - 10, (v, v_up)
+    core.set_objects([])
+    assert np.array_equal(core.render('room_camera')[0], empty)
+    core.close()
+
+
+def test_objects_alone_are_no_pose_to_draw():
+    core = sim_cameras.SimCameras(URDF, WORLD, WIDTH, HEIGHT, ['room_camera'])
+    core.set_objects([marker_world((1.0, 0.0, 0.0), 0.05).shapes[0]])
+    assert not core.posed   # the node draws nothing before Baxter's joints came
+    core.set_positions(neutral())
+    assert core.posed
+    core.close()

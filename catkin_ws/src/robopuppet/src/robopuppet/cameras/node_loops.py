@@ -1,8 +1,8 @@
 """The two loops of a camera node (camera, sim_cameras), run until ROS shuts down: its frames at
 its rate and its /diagnostics at 1 Hz, both through one Guard (periodic), so that a failed frame
-or report is logged and the next one comes as usual."""
+or report is logged and the next one comes as usual; and sim_cameras' status."""
 import rospy
-from diagnostic_msgs.msg import DiagnosticArray
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 
 from robopuppet import interface
 from robopuppet.periodic import Guard, Loop
@@ -40,3 +40,19 @@ def spin(what, rate_hz, tick, diagnose, release=None):
     for loop in loops:
         loop.start()
     rospy.spin()
+
+
+def render_status(name, cameras, per_s):
+    """Return sim_cameras' DiagnosticStatus: frames/s rendered and published per camera (per_s:
+    {(camera, 'rendered' or 'published'): frames/s}, frame_rates.FrameRates.read's)."""
+    values, lines = [], []
+    for camera in cameras:
+        render_hz, publish_hz = per_s[camera, 'rendered'], per_s[camera, 'published']
+        values += [KeyValue('%s rendered_hz' % camera, '%.1f' % render_hz),
+                   KeyValue('%s published_hz' % camera, '%.1f' % publish_hz)]
+        if publish_hz > 0.0:
+            lines.append('%s %.1f/s' % (camera, publish_hz))
+    return DiagnosticStatus(
+        level=DiagnosticStatus.OK, name='%s: simulated cameras' % name,
+        message='publishing ' + ', '.join(lines) if lines else 'nobody watches',
+        hardware_id='simulated', values=values)

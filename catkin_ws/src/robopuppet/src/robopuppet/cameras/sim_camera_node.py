@@ -5,12 +5,12 @@ import time
 
 import rospkg
 import rospy
-from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from sensor_msgs.msg import JointState
 from visualization_msgs.msg import MarkerArray
 
 from robopuppet import baxter_description as bd, interface, shape_markers
-from robopuppet.cameras import camera_services, camera_topics, node_loops, scene, sim_cameras
+from robopuppet.cameras import (camera_services, camera_topics, marker_shapes, node_loops, scene,
+                                sim_cameras)
 from robopuppet.cameras.frame_rates import FrameRates
 from robopuppet.world import obstacles as obstacle_files
 
@@ -21,11 +21,12 @@ class SimCameraNode:
     Baxter's cameras stream while open (the hand cameras from the start at ~width x ~height and
     ~rate; /cameras/list, open and close: camera_services), room cameras always. A camera is
     rendered only while its image or image/compressed has a subscriber, not before the first
-    good joint state, and again only when the joints moved (the same frame is published again
-    with a new stamp). Garbage joint states are logged (throttled) and ignored; a failed frame
-    is logged and the next one comes as usual.
+    good joint state, and again only when the joints or the task objects moved (the same frame
+    is published again with a new stamp). Garbage joint states are logged (throttled) and
+    ignored; a failed frame is logged and the next one comes as usual.
 
-    Subscribes: /robot/joint_states (sensor_msgs/JointState).
+    Subscribes: /robot/joint_states (sensor_msgs/JointState), /robopuppet/study_task (the
+    study's task markers: their cubes, spheres and cylinders are drawn, marker_shapes).
     Publishes, per streaming camera <name> of ~cameras, with one stamp per frame:
         /cameras/<name>/image (sensor_msgs/Image, bgr8), /cameras/<name>/image/compressed
         (sensor_msgs/CompressedImage, JPEG, format jpeg.JPEG_FORMAT), /cameras/<name>/camera_info
@@ -50,12 +51,13 @@ class SimCameraNode:
         self._name = rospy.get_name()
         self._services = camera_services.CameraServices(core, settings)
         self._lock = threading.Lock()  # _joints, between the callback and the render loop
-        self._joints = None
+        self._joints, self._objects, self._shown = None, None, {}
         self._rates = FrameRates([(name, what) for name in core.cameras
                                   for what in ('rendered', 'published')], time.monotonic())
         self._broadcaster = camera_topics.broadcast_fixed_frames(
             {c.frame_id: c.pose for c in core.cameras.values() if c.link is None})
         rospy.Subscriber(interface.ROBOT_JOINT_STATES, JointState, self._on_joints, queue_size=1)
+        rospy.Subscriber(interface.STUDY_MARKERS, MarkerArray, self._on_markers, queue_size=10)
 
     def run(self):
         """Render and publish until shutdown."""
@@ -65,6 +67,10 @@ class SimCameraNode:
     def _on_joints(self, msg):
         with self._lock:
             self._joints = (list(msg.name), list(msg.position))
+
+    def _on_markers(self, msg):
+        with self._lock:
+            self._objects = list(marker_shapes.apply_markers(self._shown, msg.markers).values())
 
     def _tick(self):
         with self._services.lock:  # a service call changes the topics
@@ -76,13 +82,16 @@ class SimCameraNode:
             return
         with self._lock:
             joints, self._joints = self._joints, None
+            objects, self._objects = self._objects, None
+        if objects is not None:
+            self.core.set_objects(objects)
         if joints is not None:
             try:
                 self.core.set_positions(sim_cameras.check_positions(*joints))
             except ValueError as error:
                 rospy.logwarn_throttle(10.0, '%s: ignored %s: %s', self._name,
                                        interface.ROBOT_JOINT_STATES, error)
-        if self.core.version == 0:  # no pose to draw yet: no picture rather than a wrong one
+        if not self.core.posed:  # no pose to draw yet: no picture rather than a wrong one
             rospy.logwarn_throttle(10.0, '%s: waiting for %s', self._name,
                                    interface.ROBOT_JOINT_STATES)
             return
@@ -96,19 +105,8 @@ class SimCameraNode:
             self._rates.add((name, 'published'))
 
     def _diagnose(self):
-        _, per_s = self._rates.read(time.monotonic())
-        values, lines = [], []
-        for name in self.core.cameras:
-            render_hz, publish_hz = per_s[name, 'rendered'], per_s[name, 'published']
-            values += [KeyValue('%s rendered_hz' % name, '%.1f' % render_hz),
-                       KeyValue('%s published_hz' % name, '%.1f' % publish_hz)]
-            if publish_hz > 0.0:
-                lines.append('%s %.1f/s' % (name, publish_hz))
-        return DiagnosticStatus(
-            level=DiagnosticStatus.OK, name='%s: simulated cameras' % self._name,
-            message='publishing ' + ', '.join(lines) if lines else 'nobody watches',
-            hardware_id='simulated', values=values)
-
+        return node_loops.render_status(self._name, self.core.cameras,
+                                        self._rates.read(time.monotonic())[1])
 
 def _optional_shapes(path):
     """Return the shapes of an optional obstacle or zone file; log why a malformed one is not

@@ -171,6 +171,7 @@ class SimCameras:
         self._positions = {}
         self.version = 0  # counts changes of the positions
         self._posed_version, self._robot_mesh, self._link_poses = None, None, None
+        self._objects_mesh = meshes.merged([])   # set_objects
         self._images = {}  # camera name -> (version, image)
         self._frames = {}  # camera name -> (version, raw bytes or None, JPEG bytes or None)
 
@@ -183,6 +184,18 @@ class SimCameras:
             self.version += 1
         return bool(changed)
 
+    @property
+    def posed(self):
+        """Whether any joint position came yet (before that no picture is drawn)."""
+        return bool(self._positions)
+
+    def set_objects(self, objects):
+        """Draw these world.shapes Shapes (things that move: the study's task objects) from the
+        next render() on, in their own colours; [] draws none."""
+        self._objects_mesh = meshes.merged(
+            [scene.shape_mesh(s, default=OBSTACLE_COLOUR) for s in objects])
+        self.version += 1
+
     def set_size(self, name, width, height):
         """Make a camera's images width x height pixels from its next render() on (its
         intrinsics scale with the width, as make_cameras gives them)."""
@@ -193,7 +206,8 @@ class SimCameras:
 
     def _pose_robot(self):
         if self._posed_version != self.version:
-            self._robot_mesh, self._link_poses = self.robot.posed(self._positions)
+            robot_mesh, self._link_poses = self.robot.posed(self._positions)
+            self._robot_mesh = meshes.merged([robot_mesh, self._objects_mesh])
             self._posed_version = self.version
 
     def camera_pose(self, name):

@@ -8,6 +8,7 @@ from robopuppet import interface
 from robopuppet.gui.camera_client import CameraClient
 from robopuppet.gui.puppet_client import PuppetClient, SimPuppetClient
 from robopuppet.gui.state import ArmState
+from robopuppet.gui.study_topics import StudyTopics
 from robopuppet.gui.window import Window
 from robopuppet.link_recovery import LinkRecovery
 from robopuppet.periodic import Guard
@@ -55,6 +56,9 @@ def main():
         ~frame_rate (float, default 30 Hz): redraws per second of the visible tab.
         ~debug_mode (bool, default true): show the seven joint tabs.
         ~sim_puppet (bool, default false): show the virtual puppet panel.
+        ~study (bool, default false): show the study tab (see StudyTopics: subscribes
+            /puppet/study/state, publishes /puppet/study/questionnaire, calls
+            /puppet/study/start).
     """
     rospy.init_node('gui')
     try:
@@ -65,11 +69,14 @@ def main():
     # After a cut: connect anew to the robot host's publishers once these are stuck.
     LinkRecovery(rospy.get_name(), ['%s/%s' % (interface.puppet_ns(side), interface.LINK_STATE),
                                     interface.ROBOT_JOINT_STATES]).start()
+    study = bool(rospy.get_param('~study', False))
     app = QtWidgets.QApplication(sys.argv[:1])
     window = Window(PuppetClient(side, ArmState()), debug_mode,
-                    SimPuppetClient(side) if sim_puppet else None, CameraClient())
-    rospy.loginfo('gui for arm %s: %.0f frames/s, joint tabs %s, virtual puppet %s', side,
-                  frame_rate_hz, 'on' if debug_mode else 'off', 'on' if sim_puppet else 'off')
+                    SimPuppetClient(side) if sim_puppet else None, CameraClient(),
+                    StudyTopics() if study else None)
+    rospy.loginfo('gui for arm %s: %.0f frames/s, joint tabs %s, virtual puppet %s, study tab '
+                  '%s', side, frame_rate_hz, 'on' if debug_mode else 'off',
+                  'on' if sim_puppet else 'off', 'on' if study else 'off')
     run(app, window, frame_rate_hz)
 
 

@@ -1,5 +1,5 @@
 """The GUI window: main tab (with the camera beside the status), calibration wizard, optional
-joint tabs and virtual puppet panel."""
+study tab, joint tabs and virtual puppet panel."""
 from PyQt5 import QtWidgets
 
 from robopuppet import settings
@@ -8,6 +8,7 @@ from robopuppet.gui.camera_pane import CameraPane
 from robopuppet.gui.joint_tab import JointTab
 from robopuppet.gui.main_tab import MainTab
 from robopuppet.gui.sim_panel import SimPanel
+from robopuppet.gui.study_tab import StudyTab
 
 DEFAULT_SIZE = (1280, 760)  # pixels; the benchmark measures the frame rate at this size
 PLOT_WINDOW_S = 10.0
@@ -22,9 +23,10 @@ class Window(QtWidgets.QMainWindow):
         sim: a SimPuppetClient to show the virtual puppet panel, or None.
         cameras: a CameraClient to show the camera pane on the main tab, beside the status
             (camera_pane), or None.
+        study: a StudyTopics to show the study tab (shown first), or None.
     """
 
-    def __init__(self, client, debug_mode=True, sim=None, cameras=None):
+    def __init__(self, client, debug_mode=True, sim=None, cameras=None, study=None):
         super().__init__()
         self.client = client
         self.setWindowTitle('RoboPuppet — arm %s' % client.side)
@@ -34,6 +36,10 @@ class Window(QtWidgets.QMainWindow):
         self.tabs.addTab(self.main_tab, 'Main')
         self.calibration_tab = CalibrationTab(client)
         self.tabs.addTab(self.calibration_tab, 'Calibration')
+        self.study_tab = StudyTab(study) if study is not None else None
+        if self.study_tab is not None:
+            self.tabs.insertTab(1, self.study_tab, 'Study')
+            self.tabs.setCurrentWidget(self.study_tab)
         self.joint_tabs = []
         if debug_mode:
             for joint in settings.JOINTS:
@@ -59,5 +65,8 @@ class Window(QtWidgets.QMainWindow):
         points = self.client.state.drain()
         for tab in self.joint_tabs:
             tab.extend(points)
-        self.tabs.currentWidget().refresh(self.client.state.snapshot(), now_s)
+        current = self.tabs.currentWidget()
+        current.refresh(self.client.state.snapshot(), now_s)
+        if self.study_tab is not None and current is not self.study_tab:
+            self.study_tab.watch(now_s)   # the questionnaire opens whichever tab shows
         self.frames += 1
