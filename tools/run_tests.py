@@ -9,8 +9,8 @@ depends on this machine's host name resolving; the network tests set each host's
 
 Usage: run_tests.py [unit|network|integration|all] [NAME ...]
 NAME filters the integration .test files (substring match), or with scope network the network
-tests (pytest -k NAME). Scope unit leaves out the unit tests marked slow (heavy property tests):
-the quick loop; all runs them. Prints one closing line, 'N passed, N failed in M min S s' and each
+tests (pytest -k NAME). The unit tests run on every core (pytest-xdist). Scope unit leaves out
+the unit tests marked slow (heavy property tests): the quick loop; all runs them. Prints one closing line, 'N passed, N failed in M min S s' and each
 part's time, and exits non-zero when anything failed.
 """
 import glob
@@ -51,7 +51,7 @@ def run_unit(work_dir, quick=False):
     print('[test] unit tests (pytest%s)' % (
         ', without the slow property tests: ./test.sh runs them' if quick else ''), flush=True)
     cmd = [sys.executable, '-m', 'pytest', UNIT_DIR, '-q', '-p', 'no:cacheprovider',
-           '--junitxml', xml] + (['-m', 'not slow'] if quick else [])
+           '-n', 'auto', '--junitxml', xml] + (['-m', 'not slow'] if quick else [])
     code = subprocess.call(cmd, cwd=ROOT)
     passed, failed = junit_counts(xml)
     if code != 0 and failed == 0:

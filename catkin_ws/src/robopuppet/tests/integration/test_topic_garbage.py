@@ -126,7 +126,9 @@ class Traffic:
 class Watch:
     """Everything to check for the whole run: the arm controllers' commands, the stand-in's
     joint states, /rosout lines with a traceback and lines so long that garbage floods the
-    log (a bad value belongs in a log line cut short, reprlib)."""
+    log (a bad value belongs in a log line cut short, reprlib). Long lines are kept by node:
+    ROS's own nodes on a fuzzed topic (diagnostic_aggregator on /diagnostics) log whole names,
+    and only ours are held to the rule."""
 
     def __init__(self):
         self.lock = threading.Lock()
@@ -157,8 +159,8 @@ class Watch:
     def _on_log(self, msg):
         if len(msg.msg) > MAX_LOG_CHARS and msg.name != rospy.get_name():
             with self.lock:
-                self.long_lines.append('%s: %d characters: %s' % (msg.name, len(msg.msg),
-                                                                  msg.msg[:160]))
+                self.long_lines.append((msg.name, '%s: %d characters: %s' % (
+                    msg.name, len(msg.msg), msg.msg[:160])))
         if msg.level >= Log.ERROR and 'Traceback' in msg.msg:
             lines = msg.msg.splitlines()   # what failed, and where: the innermost frames
             with self.lock:
@@ -226,7 +228,7 @@ class TopicGarbageTest(unittest.TestCase):
                  "ROS's own nodes up: %s" % sorted(nodes - ours))
         with watch.lock:
             self.assertEqual(watch.tracebacks, [])
-            self.assertEqual(watch.long_lines, [])
+            self.assertEqual([line for name, line in watch.long_lines if name in ours], [])
             commands, joints = list(watch.commands), list(watch.joints)
         self.check_commands(commands)
         self.check_joints(joints)

@@ -8,6 +8,7 @@ import os
 from PyQt5 import QtCore, QtGui, QtWidgets
 
 MAX_START_SIZE = (1200, 800)  # pixels: the dialog opens at most this large; the image scrolls
+MAX_PATH_PIXELS = 700  # the file's path beside the buttons, elided beyond this
 
 
 class PlotDialog(QtWidgets.QDialog):
@@ -36,7 +37,11 @@ class PlotDialog(QtWidgets.QDialog):
         close = QtWidgets.QPushButton('Close')
         close.clicked.connect(self.close)
         row = QtWidgets.QHBoxLayout()
-        row.addWidget(QtWidgets.QLabel(path), 1)
+        shown = QtWidgets.QLabel()   # a long path is cut in the middle, not a wider window
+        shown.setToolTip(path)
+        shown.setText(shown.fontMetrics().elidedText(path, QtCore.Qt.ElideMiddle,
+                                                      MAX_PATH_PIXELS))
+        row.addWidget(shown, 1)
         row.addWidget(viewer)
         row.addWidget(close)
         layout = QtWidgets.QVBoxLayout(self)
