@@ -11,8 +11,9 @@ Data flows from the puppet to Baxter:
 | (top level)  | tables                       | interface (names, enumerations, timing), settings |
 |              |                              | (the joint settings and their rules), params,    |
 |              |                              | baxter_description (URDF), periodic, float32,    |
-|              |                              | link_silence (stuck link connections)            |
-| config/      | tables                       | config_X: ini store, settings keeper, atomic file |
+|              |                              | link_silence (stuck link connections),           |
+|              |                              | atomic_file (replaced whole), png_plot           |
+| config/      | tables                       | config_X: ini store, settings keeper, the file   |
 | protocol/    | tables                       | serial_X: frames, link, state sets, serial core  |
 | world/       | tables                       | shape files (world, zones), the arm as capsules, |
 |              |                              | clearances, the keep-out zone guard              |

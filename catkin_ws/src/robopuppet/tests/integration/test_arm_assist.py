@@ -62,6 +62,9 @@ class ArmAssistTest(unittest.TestCase):
         calibrate(left, TARGET)
         calibrate(right, HAND_POSE)
         assist = ScriptedAssist()
+        # The press engages the assist only once arm_R has a target: connected first (the
+        # press then takes a state set, 0.1 s, to arrive; targets go every 10 ms).
+        wait_for(lambda: assist.pub.get_num_connections() > 0, 10, 'arm_R taking assist targets')
         right.press(interface.BUTTON_LEFT)
         wait_for(lambda: right.teleop.assist_left and right.state() == interface.FOLLOWING, 5,
                  'arm_R assisting the left arm')

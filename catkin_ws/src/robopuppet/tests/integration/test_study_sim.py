@@ -6,7 +6,8 @@ participant, every task with every device) through the study node's service, kee
 StudyState) and the gripper tip's path it measures itself on /robot/joint_states, waits for
 DONE and checks the results: one row per (participant, device, task), each a success, its completion time
 the trial's window and its path the measured one (within tolerances), one questionnaire row per
-device.
+device; and that every trial began with both arms measured at their start (Baxter's neutral
+pose, where the runner brings them).
 """
 import csv
 import os
@@ -28,6 +29,9 @@ from waiting import wait_for
 STUDY_S = 840.0       # a whole study (every trial, input restarts, questionnaires)
 WINDOW_S, WINDOW_SHARE = 1.0, 0.02   # completion agrees with the window seen, within these
 PATH_SHARE, PATH_M = 0.15, 0.03   # and its path with the measured one, within share + m
+AT_START_RAD = 0.03   # the arms this near Baxter's neutral pose when a trial begins
+NEUTRAL = {name: value for side in interface.BAXTER_SIDES
+           for name, value in bd.neutral_pose(side).items()}
 
 
 def rows(path):
@@ -41,7 +45,7 @@ class Watch:
     def __init__(self):
         self.description = bd.load()
         self.lock = threading.Lock()
-        self.last, self.windows, self.tips = None, {}, []
+        self.last, self.windows, self.tips, self.at_start = None, {}, [], {}
         rospy.Subscriber(interface.STUDY_STATE, StudyState, self.on_state, queue_size=100)
         rospy.Subscriber(interface.ROBOT_JOINT_STATES, JointState, self.on_joints,
                          queue_size=100)
@@ -54,6 +58,10 @@ class Watch:
                 key = (msg.participant, msg.device, msg.task)
                 start, _ = self.windows.get(key, (now, now))
                 self.windows[key] = (start, now)
+                if key not in self.at_start and self.tips:   # the arms when it began
+                    measured = self.tips[-1][1]
+                    self.at_start[key] = max(abs(measured.get(n, np.inf) - v)
+                                             for n, v in NEUTRAL.items())
 
     def on_joints(self, msg):
         with self.lock:   # the tips are worked out afterwards: no load on the running study
@@ -120,6 +128,9 @@ class StudySimTest(unittest.TestCase):
             print('study_sim: %-10s %-10s success %-5s completion %6s s (window %5.1f s) '
                   'path %6s m (measured %.2f m)' % (key + (row['success'], row['completion_s'],
                                                          end_t - start_t, row['path_m'], seen_m)))
+            if watch.at_start[(row['participant'],) + key] > AT_START_RAD:
+                problems.append('%s with %s: began %.3f rad off the start pose' % (
+                    key[::-1] + (watch.at_start[(row['participant'],) + key],)))
             if row['success'].lower() != 'true':
                 problems.append('%s with %s failed' % key[::-1])
                 continue

@@ -64,3 +64,13 @@ def test_solve_reaches_a_pose_and_refuses_the_unreachable_and_nan(arm):
     assert arm.solve(xyz + [5.0, 0.0, 0.0], quaternion, q) is None
     assert arm.solve([np.nan, 0.0, 0.0], quaternion, q) is None
     assert arm.solve(xyz, (0.0, 0.0, 0.0, 0.0), q) is None
+
+
+def test_solve_near_reaches_the_pose_within_narrower_bounds_or_says_none(arm):
+    q_goal = np.array([1.2, -0.7, 0.1, 0.9, -0.3, 1.45, 1.3])   # w1 near a puppet's limit
+    xyz, rotation = arm.tip(q_goal)
+    q = arm.solve_near(xyz, rotation, np.array(NEUTRAL))
+    assert np.linalg.norm(arm.tip(q)[0] - xyz) < 0.004 and q[5] > 1.3
+    bounded = CartesianArm('right', bounds=(arm.lower, np.minimum(arm.upper, 1.3)))
+    assert bounded.solve_near(xyz, rotation, np.array(NEUTRAL)) is None   # w1 > 1.3 needed
+    assert np.all(bounded.clip(np.full(7, 3.0)) <= 1.3)

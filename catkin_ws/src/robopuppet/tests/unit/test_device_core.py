@@ -11,7 +11,7 @@ from robopuppet.study import device_core as dc
 from robopuppet.study.cartesian import CartesianArm
 from robopuppet.study.input_events import InputEvent
 from robopuppet.study.key_jog import KeyJog
-from robopuppet.study.pad_axes import Gamepad
+from robopuppet.study.pad_axes import FOLLOW, SPACE_FOLLOW, Gamepad, SpaceMouse
 
 BENT = [0.3, -0.3, 0.0, 1.6, 0.0, 0.3, 0.0]
 END = interface.END_PIECE_GRIPPER
@@ -26,11 +26,14 @@ def key(code, value):
     return InputEvent(0.0, e.EV_KEY, code, value)
 
 
-def run(core, t0, t1, rate_hz=50.0):
-    """Step core from t0 to t1; return the last Output."""
+def run(core, t0, t1, rate_hz=50.0, follow=False):
+    """Step core from t0 to t1 (follow: Baxter measured where the last step's target was);
+    return the last Output."""
     output = None
     for t in np.arange(t0, t1 + 1e-9, 1.0 / rate_hz):
         output = core.step(float(t))
+        if follow:
+            core.on_robot(output.positions)
     return output
 
 
@@ -49,17 +52,31 @@ def test_while_following_a_key_jogs_the_target_from_the_pose_at_the_press(arms):
     core.on_robot(BENT)
     core.step(0.0)
     core.on_teleop(True)
-    core.on_robot([0.0] * 7)       # Baxter lags: the target moves on from itself, not from here
+    lagging = np.array(BENT) + [0.0, 0.0, 0.1, 0.0, 0.0, 0.0, -0.1]
+    core.on_robot(lagging)         # Baxter lags: the target moves on from itself, not from here
     core.on_events([key(e.KEY_D, 1), key(e.KEY_M, 1)])   # joint 2 plus, joint 6 minus
-    out = run(core, 0.02, 1.0)
+    out = run(core, 0.02, 0.5)
     want = list(BENT)
-    want[2] += 0.4
-    want[6] -= 0.4
+    want[2] += 0.2
+    want[6] -= 0.2
     assert out.positions == pytest.approx(want, abs=1e-6)
     core.on_events([key(e.KEY_D, 0), key(e.KEY_M, 0)])
-    assert run(core, 1.02, 1.5).positions == pytest.approx(want, abs=1e-6)
+    assert run(core, 0.52, 1.0).positions == pytest.approx(want, abs=1e-6)
     core.on_teleop(False)          # not following any more: back to Baxter's pose
-    assert core.step(1.52).positions == pytest.approx([0.0] * 7)
+    assert core.step(1.02).positions == pytest.approx(lagging)
+
+
+def test_a_target_leads_a_held_arm_by_at_most_the_lead_and_turning_back_acts_at_once(arms):
+    core = dc.DeviceCore('R', KeyJog('R', jog_speed=0.4), arms['R'])
+    core.on_robot(BENT)
+    core.step(0.0)
+    core.on_teleop(True)
+    core.on_events([key(e.KEY_D, 1)])        # joint 2 plus for 3 s: Baxter held, not moving
+    out = run(core, 0.02, 3.0)
+    assert out.positions[2] == pytest.approx(BENT[2] + dc.MAX_LEAD_RAD)
+    core.on_events([key(e.KEY_D, 0), key(e.KEY_C, 1)])   # turn back: joint 2 minus
+    out = run(core, 3.02, 3.5)
+    assert out.positions[2] == pytest.approx(BENT[2] + dc.MAX_LEAD_RAD - 0.2, abs=1e-6)
 
 
 def test_the_target_stays_within_the_joint_limits(arms):
@@ -67,7 +84,7 @@ def test_the_target_stays_within_the_joint_limits(arms):
     core.on_robot(BENT)
     core.on_teleop(True)
     core.on_events([key(e.KEY_A, 1), key(e.KEY_X, 1)])   # joint 0 up, joint 1 down
-    out = run(core, 0.0, 5.0)
+    out = run(core, 0.0, 5.0, follow=True)
     assert out.positions[0] == pytest.approx(arms['R'].upper[0])
     assert out.positions[1] == pytest.approx(arms['R'].lower[1])
 
@@ -91,7 +108,7 @@ def test_a_gamepad_keeps_the_grippers_orientation_over_a_long_motion(arms):
     rotation = arms['R'].tip(BENT)[1]
     for t, (x, y) in ((0.0, (0, -32768)), (1.0, (32767, 0)), (2.0, (0, 32767))):
         core.on_events([InputEvent(t, e.EV_ABS, e.ABS_RX, x), InputEvent(t, e.EV_ABS, e.ABS_RY, y)])
-        out = run(core, t + 0.02, t + 1.0)
+        out = run(core, t + 0.02, t + 1.0, follow=True)   # Baxter follows
     assert np.linalg.norm(rotation_error(rotation, arms['R'].tip(out.positions)[1])) < 1e-3
     moved = arms['R'].tip(out.positions)[0] - arms['R'].tip(BENT)[0]
     assert moved == pytest.approx([0.0, -0.1, 0.0], abs=0.005)
@@ -155,3 +172,29 @@ def test_a_marker_press_holds_the_button_briefly_and_its_target_counts_only_whil
     assert core.step(1.32).positions == pytest.approx(goal)
     core.set_closed(True)
     assert core.step(1.34).grippers[END] == dc.PRESSED
+
+
+@pytest.mark.parametrize('mine, other, passed_on', [
+    (False, False, True),    # nothing follows: the press starts both
+    (True, True, True),      # both follow: it stops both
+    (True, False, True),     # split: it stops the one that follows ...
+    (False, True, False)])   # ... and is not passed on where the arm does not follow
+def test_a_shared_follow_press_brings_both_arms_to_one_state(arms, mine, other, passed_on):
+    core = dc.DeviceCore('L', SpaceMouse('L'), arms['L'])
+    core.on_robot(BENT)
+    core.on_teleop(mine)
+    core.on_other_teleop(other)
+    core.on_events([key(SPACE_FOLLOW, 1)])
+    assert core.step(0.0).button == (interface.BUTTON_LEFT if passed_on else 0)
+    core.on_other_teleop(not other)    # the other arm changes while the button is down
+    assert core.step(0.02).button == (interface.BUTTON_LEFT if passed_on else 0)
+    core.on_events([key(SPACE_FOLLOW, 0)])
+    assert core.step(0.04).button == 0
+
+
+def test_a_gamepad_follow_button_is_its_sides_own(arms):
+    core = dc.DeviceCore('L', Gamepad('L'), arms['L'])
+    core.on_robot(BENT)
+    core.on_other_teleop(True)          # the other arm follows: this side's press still counts
+    core.on_events([key(FOLLOW['L'], 1)])
+    assert core.step(0.0).button == interface.BUTTON_LEFT

@@ -41,3 +41,32 @@ def test_inputs_are_started_per_side_and_stopped_by_sigint_and_waited_for(tmp_pa
     assert inputs.exited() == {}
     assert inputs.stop() == {'L': 7, 'R': 7}
     assert inputs.stop() == {}
+
+
+def test_a_move_reports_its_exit_and_last_line_once_and_is_stopped_by_sigint(tmp_path):
+    def popen_with(code):
+        def popen(command, **kwargs):
+            assert command == input_launch.MOVE_ARMS
+            return subprocess.Popen([sys.executable, '-c', code], **kwargs)
+        return popen
+
+    move = input_launch.ArmsMove(popen_with(
+        'import sys; print("move_arms: moving slowly", file=sys.stderr); '
+        'print("move_arms: stopped: button 1 pressed", file=sys.stderr); sys.exit(1)'))
+    assert move.ended() is None       # nothing started
+    move.start()
+    while (ended := move.ended()) is None:
+        pass
+    assert ended == (1, 'move_arms: stopped: button 1 pressed') and move.ended() is None
+    started = tmp_path / 'started'
+    move = input_launch.ArmsMove(popen_with(
+        'import signal, sys, time\n'
+        'signal.signal(signal.SIGINT, lambda *a: sys.exit(7))\n'
+        'open(%r, "w").close()\n'
+        'time.sleep(60)\n' % str(started)))
+    move.start()
+    while not started.exists():
+        pass
+    assert move.ended() is None      # still moving
+    move.stop()
+    assert move.ended() is None      # stopped: nothing to report

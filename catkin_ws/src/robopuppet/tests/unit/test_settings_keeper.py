@@ -5,7 +5,7 @@ import os
 
 import pytest
 
-from robopuppet import settings
+from robopuppet import atomic_file, settings
 from robopuppet.config import config_file, config_store
 from robopuppet.config.settings_keeper import SettingsKeeper, check_arm_request
 
@@ -177,11 +177,11 @@ CALIBRATION = [(joint, ['home_angle', 'sign_angle'], [0.1 * joint, -1.0])
 
 
 def file_keeper(tmp_path):
-    """A keeper of a real ini file written by config_file.write_atomic; return it and the path."""
+    """A keeper of a real ini file written by atomic_file.write_atomic; return it and the path."""
     path = str(tmp_path / 'arm_R.ini')
     loaded = config_file.load_or_create(path, '', 'stamp')
     assert loaded.unwritable == '' and loaded.problems == []
-    return SettingsKeeper(loaded.config, loaded.text, '', path, config_file.write_atomic), path
+    return SettingsKeeper(loaded.config, loaded.text, '', path, atomic_file.write_atomic), path
 
 
 def test_one_bad_value_in_joint_5_of_an_arm_request_writes_nothing(tmp_path):
@@ -201,7 +201,7 @@ def test_one_bad_value_in_joint_5_of_an_arm_request_writes_nothing(tmp_path):
 def test_an_arm_request_is_written_with_one_replace_and_counts_one_revision(tmp_path):
     store, path = file_keeper(tmp_path)
     writes = []
-    store._write = lambda p, text: writes.append(text) or config_file.write_atomic(p, text)
+    store._write = lambda p, text: writes.append(text) or atomic_file.write_atomic(p, text)
     answer = store.request_arm(CALIBRATION)
     assert answer.stored and answer.written and answer.error == ''
     assert len(writes) == 1 and store.revision == 1

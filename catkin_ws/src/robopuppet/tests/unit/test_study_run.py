@@ -50,6 +50,14 @@ def seen(ready=('R',), x=0.0):
                    {'right': False, 'left': False}, {'right': False, 'left': False})
 
 
+def begin(run, t, saw=None):
+    """Step the DEVICE phase at t: the arms go to their start (MoveArms), move_arms ends well,
+    the trial begins; return the actions of its beginning."""
+    assert run.step(t, saw or seen()) == [sr.MoveArms()]
+    assert run.phase == sr.DEVICE and 'start' in run.state(t).detail
+    return run.on_moved(t, 0, '')
+
+
 def rows(actions, name=results.TRIALS_CSV):
     return [a.row for a in actions if isinstance(a, sr.WriteRow) and a.name == name]
 
@@ -65,7 +73,7 @@ def test_a_study_runs_through_trials_and_questionnaires_to_done():
     for block in range(2):
         for _ in range(2):
             task = run.state(102.0).task
-            actions = run.step(102.0, seen(ready=('L', 'R')))
+            actions = begin(run, 102.0, seen(ready=('L', 'R')))
             assert actions[0].start and 'study: %s with ' % task in actions[0].task
             assert run.phase == sr.TRIAL and run.state(103.0).elapsed == 1.0
             assert run.state(103.0).goals == ['goal']
@@ -92,7 +100,7 @@ def test_a_study_runs_through_trials_and_questionnaires_to_done():
 def test_a_trial_not_done_by_its_timeout_fails():
     run = make_run(trial_timeout_s=5.0, trials=2)
     run.start(0.0, 'P01', 0)
-    run.step(1.0, seen())
+    begin(run, 1.0)
     assert rows(run.step(5.9, seen())) == []
     actions = run.step(6.0, seen())
     assert actions[0] == sr.Record(False, '')
@@ -106,7 +114,7 @@ def test_a_trial_not_done_by_its_timeout_fails():
 def test_the_trial_time_starts_once_its_episode_started():
     run = make_run(trial_timeout_s=5.0)
     run.start(0.0, 'P01', 0)
-    run.step(1.0, seen())
+    begin(run, 1.0)
     run.on_episode(3.0, '/episodes/e1.bag')    # the recorder took 2 s to start
     assert Judge.made[-1].t0 == 3.0 and run.state(4.0).elapsed == 1.0
     assert run.step(7.0, seen()) == []
@@ -117,7 +125,7 @@ def test_the_trial_time_starts_once_its_episode_started():
 def test_stop_ends_the_episode_and_the_inputs():
     run = make_run()
     run.start(0.0, 'P01', 0)
-    run.step(1.0, seen())
+    begin(run, 1.0)
     assert run.stop(2.0) == [sr.Record(False, ''), sr.StopInputs()]
     assert run.phase == sr.STOPPED and 'operator' in run.state(2.0).detail
     assert run.step(3.0, seen(x=2.0)) == [] and run.stop(3.0) == []
@@ -127,7 +135,7 @@ def test_stop_ends_the_episode_and_the_inputs():
 def test_the_questionnaire_waits_for_its_participant_and_device_and_valid_answers():
     run = make_run()
     run.start(0.0, 'P01', 0)
-    run.step(1.0, seen())
+    begin(run, 1.0)
     run.step(2.0, seen(x=2.0))
     assert run.phase == sr.QUESTIONNAIRE
     assert 'awaited' in run.questionnaire(3.0, 'P02', 'keyboard', TLX, SUS)[0]
@@ -160,3 +168,38 @@ def test_inputs_never_ready_stop_the_study():
     assert run.step(19.0, seen(ready=())) == []
     assert run.step(21.0, seen(ready=())) == [sr.StopInputs()]
     assert run.phase == sr.STOPPED and 'arm_R not ready' in run.state(21.0).detail
+
+
+def test_the_arms_go_to_their_start_once_let_go_and_a_failed_move_is_tried_again():
+    run = make_run(trials=2)
+    run.start(0.0, 'P01', 0)
+    following = seen()._replace(following={'right': True, 'left': False})
+    assert run.step(1.0, following) == []          # the arm follows: nothing moves it
+    assert 'let go' in run.state(1.0).detail and 'right arm' in run.state(1.0).detail
+    assert run.step(2.0, seen()) == [sr.MoveArms()]
+    assert run.step(2.5, seen()) == []             # one move at a time
+    assert run.on_moved(3.0, 1, 'stopped: the puppet started following') == []
+    assert 'again' in run.state(3.0).detail and run.phase == sr.DEVICE
+    assert run.step(3.5, seen()) == [sr.MoveArms()]
+    actions = run.on_moved(4.0, 0, '')
+    assert actions[0].start and run.phase == sr.TRIAL
+    assert run.on_moved(4.5, 0, '') == []          # late or repeated outcomes change nothing
+    actions = run.step(5.0, seen(x=2.0))           # done; the next trial: let go, move again
+    assert run.phase == sr.DEVICE and run.step(5.5, following) == []
+    assert begin(run, 6.0)[0].start and run.phase == sr.TRIAL
+
+
+def test_arms_never_brought_to_their_start_or_never_let_go_stop_the_study():
+    run = make_run()
+    run.start(0.0, 'P01', 0)
+    for k in range(sr.MOVE_TRIES):
+        assert run.step(1.0 + k, seen()) == [sr.MoveArms()]
+        actions = run.on_moved(1.5 + k, 2, "refused: keep-out zone 'bed'")
+    assert actions == [sr.StopInputs()] and run.phase == sr.STOPPED
+    assert "3 tries): refused: keep-out zone 'bed'" in run.state(9.0).detail
+    run = make_run()
+    run.start(0.0, 'P01', 0)
+    held = seen()._replace(following={'right': False, 'left': True})
+    assert run.step(19.0, held) == []
+    assert run.step(21.0, held) == [sr.StopInputs()]
+    assert 'the left arm still following' in run.state(21.0).detail

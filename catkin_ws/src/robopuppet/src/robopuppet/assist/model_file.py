@@ -14,6 +14,7 @@ import zipfile
 
 import numpy as np
 
+from robopuppet import atomic_file
 from robopuppet.assist import learners
 
 FORMAT = 'robopuppet assist model'
@@ -34,21 +35,7 @@ def save(path, predictor, extra=None):
     header.update(format=FORMAT, format_version=VERSION)
     buffer = io.BytesIO()
     np.savez(buffer, header=np.array(json.dumps(header)), **predictor.arrays)
-    temp = '%s.%d.tmp' % (path, os.getpid())
-    try:
-        with open(temp, 'wb') as out:
-            out.write(buffer.getvalue())
-            out.flush()
-            os.fsync(out.fileno())
-        os.replace(temp, path)
-    finally:
-        if os.path.exists(temp):
-            os.remove(temp)
-    folder = os.open(os.path.dirname(os.path.abspath(path)), os.O_RDONLY)
-    try:
-        os.fsync(folder)
-    finally:
-        os.close(folder)
+    atomic_file.write_atomic(path, buffer.getvalue())
 
 
 def read_header(path):

@@ -1,11 +1,12 @@
 """train_assist's plot (--plot): one held-out demonstration's follower motion, demonstrated and
 predicted, joint by joint and the gripper, shaded where the prediction was unfamiliar.
 
-Pure (numpy, matplotlib with the Agg backend: no display needed); matplotlib is imported where
-the figure is made, so that training without --plot starts sooner.
+Pure (numpy, matplotlib through png_plot: no display needed, imported where the figure is
+made, so that training without --plot starts sooner).
 """
 import numpy as np
 
+from robopuppet import png_plot
 from robopuppet.assist import learners
 from robopuppet.baxter_description import arm_joint_names
 
@@ -30,9 +31,7 @@ def plot_figure(predictor, demo, title):
     """Return the figure (matplotlib): 9 panels over time, the follower's 7 joints (deg) and
     its gripper (closed 1, open 0), demonstrated and predicted, and the confidence; red
     shading where the prediction is unfamiliar."""
-    import matplotlib  # pylint: disable=import-outside-toplevel  (see the module docstring)
-    matplotlib.use('Agg')
-    import matplotlib.pyplot as plt  # pylint: disable=import-outside-toplevel
+    plt = png_plot.pyplot()
     positions, closed, confidence = predictor.predict_demo(demo)
     shown, shown_closed = learners.arm(demo, predictor.follower)
     spans = unfamiliar_spans(demo.t, confidence >= learners.CONFIDENCE_THRESHOLD)
@@ -61,9 +60,4 @@ def plot_figure(predictor, demo, title):
 
 def write_plot(path, predictor, demo, title):
     """Write plot_figure's figure as a PNG."""
-    import matplotlib.pyplot as plt  # pylint: disable=import-outside-toplevel
-    figure = plot_figure(predictor, demo, title)
-    try:
-        figure.savefig(path, format='png', dpi=80)
-    finally:
-        plt.close(figure)
+    png_plot.write_png(path, plot_figure(predictor, demo, title))

@@ -1,15 +1,14 @@
-"""The ini file of one puppet arm on disk: where it lives, atomic writes, backups.
+"""The ini file of one puppet arm on disk: where it lives, its repair, backups.
 
-A write goes to a temporary file in the same directory, is flushed to disk and then renamed over
-the old file, so a kill at any moment leaves either the old or the new file, never a torn one.
+Every write replaces the file whole (atomic_file): a kill at any moment leaves either the old or
+the new file, never a torn one.
 """
 import collections
-import glob
 import itertools
 import os
 import shutil
-import tempfile
 
+from robopuppet.atomic_file import remove_stale_temporaries, write_atomic
 from robopuppet.config import config_store
 
 
@@ -24,49 +23,6 @@ def resolve_path(file_name, ros_home):
     if not os.path.isabs(path):
         path = os.path.join(ros_home, 'robopuppet', path)
     return path
-
-
-def _tmp_prefix(path):
-    return '.%s.' % os.path.basename(path)
-
-
-def remove_stale_temporaries(path):
-    """Delete temporary files that a writer killed mid-write left beside path; return them."""
-    pattern = os.path.join(os.path.dirname(path) or '.', glob.escape(_tmp_prefix(path)) + '*.tmp')
-    stale = glob.glob(pattern)
-    for tmp_path in stale:
-        os.unlink(tmp_path)
-    return stale
-
-
-def write_atomic(path, text):
-    """Replace the file at path with text, atomically and durably.
-
-    Raises:
-        OSError: the directory or file cannot be written; the old file is then unchanged.
-    """
-    directory = os.path.dirname(path) or '.'
-    os.makedirs(directory, exist_ok=True)
-    fd, tmp_path = tempfile.mkstemp(prefix=_tmp_prefix(path), suffix='.tmp', dir=directory)
-    try:
-        with os.fdopen(fd, 'w') as tmp:
-            tmp.write(text)
-            tmp.flush()
-            os.fsync(tmp.fileno())
-        if os.path.exists(path):
-            shutil.copymode(path, tmp_path)
-        os.replace(tmp_path, path)
-    except BaseException:
-        try:
-            os.unlink(tmp_path)
-        except OSError:
-            pass
-        raise
-    dir_fd = os.open(directory, os.O_RDONLY)
-    try:
-        os.fsync(dir_fd)
-    finally:
-        os.close(dir_fd)
 
 
 def backup(path, stamp):

@@ -6,7 +6,7 @@ import rospkg
 import rospy
 from std_msgs.msg import Float32
 
-from robopuppet import interface, settings
+from robopuppet import atomic_file, interface, settings
 from robopuppet.config import config_file, config_store
 from robopuppet.config.arm_topics import ArmTopics
 from robopuppet.config.settings_keeper import SettingsKeeper
@@ -73,7 +73,7 @@ class ConfigNode:
                          'WILL NOT PERSIST: every change is refused until the node restarts '
                          'with a writable file', self._ns, loaded.unwritable)
         self._keeper = SettingsKeeper(loaded.config, loaded.text, loaded.unwritable, path,
-                                      config_file.write_atomic)
+                                      atomic_file.write_atomic)
         self._lock = threading.Lock()  # one request at a time; publishes in revision order
         feel = config_store.parse_feel(loaded.text)[0]
         rospy.loginfo('%s: feel mode gains from %s: %s', self._ns, path, ', '.join(

@@ -1,7 +1,7 @@
 """One arm's stored joint settings: requests of one or several joints, all or none; a revision.
 
 Pure: no ROS, no clock; the file is written only through the `write` callable it is given (the
-node passes config_file.write_atomic). Not thread-safe: the caller serialises requests.
+node passes atomic_file.write_atomic). Not thread-safe: the caller serialises requests.
 """
 import collections
 

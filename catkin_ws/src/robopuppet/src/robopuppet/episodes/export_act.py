@@ -14,6 +14,8 @@ import re
 
 import yaml
 
+from robopuppet import atomic_file
+
 INDEX_FILE = 'episode_index.yaml'
 LOCK_FILE = '.export.lock'
 _FILE_RE = re.compile(r'^episode_(\d+)\.hdf5$')
@@ -53,15 +55,13 @@ def choose_index(directory, name):
 
 def record(directory, index, name):
     """Write INDEX_FILE with index -> name, keeping the other entries whose files exist;
-    atomically (temp file + rename)."""
+    whole or not at all (atomic_file)."""
     present = set(indices(directory)) | {index}
     mapping = {i: held for i, held in read_index(directory).items() if i in present}
     mapping[index] = name
-    path = os.path.join(directory, INDEX_FILE)
-    with open(path + '.tmp', 'w') as stream:
-        stream.write('# ACT dataset index: episode_<index>.hdf5 holds the episode named\n')
-        yaml.safe_dump(dict(sorted(mapping.items())), stream, default_flow_style=False)
-    os.replace(path + '.tmp', path)
+    atomic_file.write_atomic(os.path.join(directory, INDEX_FILE), (
+        '# ACT dataset index: episode_<index>.hdf5 holds the episode named\n'
+        + yaml.safe_dump(dict(sorted(mapping.items())), default_flow_style=False)))
 
 
 def gaps(directory):

@@ -1,11 +1,12 @@
 """The episode's plot (export --plot, <name>.png): per plotted Baxter arm the puppet's,
 commanded and measured angles of each joint and the tracking error, then the gripper.
 
-Pure (numpy, matplotlib with the Agg backend: no display needed). matplotlib is imported where
-the figure is made, so that the commands that only read bags start sooner.
+Pure (numpy, matplotlib through png_plot: no display needed, imported where the figure is
+made, so that the commands that only read bags start sooner).
 """
 import numpy as np
 
+from robopuppet import png_plot
 from robopuppet.arm.joint_motion import mirror
 from robopuppet.baxter_description import arm_joint_names
 from robopuppet.episodes import export
@@ -47,9 +48,7 @@ def plot_figure(series, time_s, title):
     then the gripper's commanded and measured opening with the puppet's end-piece reading
     (0..1). Right: the tracking error commanded - measured of each (deg; opening for the
     gripper). Each panel's y-limits hold all its traces; legends sit above the panels."""
-    import matplotlib  # pylint: disable=import-outside-toplevel  (see the module docstring)
-    matplotlib.use('Agg')
-    import matplotlib.pyplot as plt  # pylint: disable=import-outside-toplevel
+    plt = png_plot.pyplot()
     arms = max(len(series), 1)
     figure, axes = plt.subplots(8, 2 * arms, sharex=True, squeeze=False,
                                 figsize=(11 * arms, 17),
@@ -92,12 +91,7 @@ def plot_figure(series, time_s, title):
 
 def write_plot(path, series, time_s, title):
     """Write plot_figure's figure as a PNG."""
-    import matplotlib.pyplot as plt  # pylint: disable=import-outside-toplevel
-    figure = plot_figure(series, time_s, title)
-    try:
-        figure.savefig(path, format='png', dpi=80)
-    finally:
-        plt.close(figure)
+    png_plot.write_png(path, plot_figure(series, time_s, title))
 
 
 def puppet_driver(follow, puppet_sides, baxter_side):

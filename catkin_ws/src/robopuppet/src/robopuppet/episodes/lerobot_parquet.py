@@ -11,6 +11,7 @@ import sys
 
 import numpy as np
 
+from robopuppet import atomic_file
 from robopuppet.episodes import lerobot_meta
 
 PYARROW_VERSION = '17.0.0'  # tools/setup.sh installs this one
@@ -160,12 +161,8 @@ def read_json(path):
 
 
 def write_json(path, data):
-    """Write a JSON file (indent 4, as LeRobot's), through a temporary file in its folder."""
-    os.makedirs(os.path.dirname(path), exist_ok=True)
-    temp = path + '.tmp'
-    with open(temp, 'w') as stream:
-        json.dump(data, stream, indent=4)
-    os.replace(temp, path)
+    """Write a JSON file (indent 4, as LeRobot's), whole or not at all (atomic_file)."""
+    atomic_file.write_atomic(path, json.dumps(data, indent=4))
 
 
 def last_files(rows, video_keys):

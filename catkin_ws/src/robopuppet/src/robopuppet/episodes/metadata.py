@@ -6,6 +6,7 @@ import os
 
 import yaml
 
+from robopuppet import atomic_file
 from robopuppet.episodes.recording import ACTIVE, BAG, META
 
 
@@ -61,14 +62,6 @@ def metadata_or_empty(yaml_path):
 
 
 def write_metadata(path, data):
-    """Write a metadata dict as YAML atomically (temp file, fsync, rename); OSError on failure."""
-    temp = path + '.tmp'
-    try:
-        with open(temp, 'w') as out:
-            yaml.safe_dump(data, out, default_flow_style=False, sort_keys=False)
-            out.flush()
-            os.fsync(out.fileno())
-        os.replace(temp, path)
-    finally:
-        if os.path.exists(temp):
-            os.unlink(temp)
+    """Write a metadata dict as YAML, whole or not at all (atomic_file); OSError on failure."""
+    atomic_file.write_atomic(path, yaml.safe_dump(data, default_flow_style=False,
+                                                  sort_keys=False))

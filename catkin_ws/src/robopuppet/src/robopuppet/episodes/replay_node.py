@@ -23,33 +23,10 @@ import rospy
 
 from robopuppet import baxter_description
 from robopuppet import interface as ifc
-from robopuppet.arm import zone_topics
 from robopuppet.episodes import (export, export_cli, export_files, puppet_playback,
                                  puppet_player, replay, robot_player)
 from robopuppet.episodes.metadata import EpisodeError, episode_paths, read_metadata
 from robopuppet.episodes.recording import parse_sides
-
-
-def keepout_zones(given, say):
-    """Return {Baxter side: ZoneGuard} ({} when every file is '') of the zones the replay keeps
-    the arms out of, and say which (module docstring: --zones FILE, else the running arm
-    controllers', else the package's).
-
-    Raises:
-        ValueError: a zone file is bad (the message names it and the entry).
-    """
-    if given is not None:
-        files, whose = [given], '--zones'
-    else:
-        running = zone_topics.controllers_zones_files()
-        files = sorted(set(running.values())) or [zone_topics.package_zones_file()]
-        whose = ("%s zones_file%s" % (" and ".join("arm_%s's" % s for s in sorted(running)),
-                                      ' differ: the zones of both' if len(files) > 1 else '')
-                 if running else "the package's: no arm controller's zones_file is set")
-    guards, found = zone_topics.load_guards(*files)
-    say('keep-out zones: %s (%d zone%s, %s)' % (' and '.join(p or "''" for p in files),
-                                                 len(found), 's'[len(found) == 1:], whose))
-    return guards
 
 
 def main(argv=None):
@@ -99,7 +76,7 @@ def main(argv=None):
     rospy.init_node('replay', anonymous=True)
     if args.into == 'robot':   # the zones' default comes from the parameter server
         try:
-            guards = keepout_zones(args.zones, say)
+            guards = robot_player.keepout_zones(args.zones, say)
         except ValueError as error:   # a bad zone file (ZoneFileError) or robot description
             say('refused: %s' % error)
             sys.exit(2)

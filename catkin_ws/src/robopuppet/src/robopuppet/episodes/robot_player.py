@@ -15,6 +15,7 @@ from std_msgs.msg import Empty, UInt8
 
 from robopuppet import baxter_description
 from robopuppet import interface as ifc
+from robopuppet.arm import zone_topics
 from robopuppet.arm.baxter_upkeep import CMD_GO
 from robopuppet.arm.readings import arm_poses, joint_angles
 from robopuppet.episodes import replay
@@ -23,6 +24,28 @@ from robopuppet_msgs.msg import TeleopState
 
 RATE_HZ = 100.0
 WAIT_S = 5.0        # for Baxter's state and pose before refusing
+
+
+def keepout_zones(given, say):
+    """Return {Baxter side: ZoneGuard} ({} when every file is '') of the zones a replay onto the
+    robot keeps the arms out of, and say which: the file given (replay's and move_arms'
+    --zones), else the running arm controllers' zone files, else the package's.
+
+    Raises:
+        ValueError: a zone file is bad (the message names it and the entry).
+    """
+    if given is not None:
+        files, whose = [given], '--zones'
+    else:
+        running = zone_topics.controllers_zones_files()
+        files = sorted(set(running.values())) or [zone_topics.package_zones_file()]
+        whose = ("%s zones_file%s" % (" and ".join("arm_%s's" % s for s in sorted(running)),
+                                      ' differ: the zones of both' if len(files) > 1 else '')
+                 if running else "the package's: no arm controller's zones_file is set")
+    guards, found = zone_topics.load_guards(*files)
+    say('keep-out zones: %s (%d zone%s, %s)' % (' and '.join(p or "''" for p in files),
+                                                 len(found), 's'[len(found) == 1:], whose))
+    return guards
 
 
 class RobotPlayer(Player):

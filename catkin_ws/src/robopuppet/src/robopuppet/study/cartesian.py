@@ -1,4 +1,5 @@
-"""Cartesian velocity to joint angles: one damped-least-squares step per device step (pure)."""
+"""Cartesian velocity to joint angles: one damped-least-squares step per device step; and IK
+that settles for a near answer where the exact solver stalls (pure)."""
 import numpy as np
 
 from robopuppet import baxter_description
@@ -6,6 +7,9 @@ from robopuppet.baxter_sim.baxter_ik import ArmIK, quaternion_matrix, rotation_e
 
 DAMPING = 0.02   # lambda of the damped least squares (m, rad): slows the arm near singularities
 ITERATIONS = 3   # Jacobian steps per device step
+LOOSE_M, LOOSE_RAD, LOOSE_ITERATIONS = 0.004, 0.05, 100   # solve_near's good-enough answer
+LOOSE_DAMPING, LOOSE_STEP_RAD = 0.05, 0.3
+NEAR_SEEDS = 6   # solve_near tries this many of the IK's null-space map seeds
 
 
 def axis_angle_matrix(rotation_vector):
@@ -22,11 +26,13 @@ class CartesianArm:
     Args:
         side: 'left' or 'right'.
         description: a baxter_description.Description (the package's URDF when None).
+        bounds: (lower, upper) 7 angles (rad) narrower than the joint limits, e.g. what a
+            puppet can show; clip and solve_near keep within them.
     """
 
-    def __init__(self, side, description=None):
+    def __init__(self, side, description=None, bounds=None):
         self._ik = ArmIK(description or baxter_description.load(), side)
-        self.lower, self.upper = self._ik.lower, self._ik.upper
+        self.lower, self.upper = bounds or (self._ik.lower, self._ik.upper)
 
     def clip(self, q):
         """Return q (7 rad) clipped into the joint limits."""
@@ -66,3 +72,36 @@ class CartesianArm:
         except ValueError:
             return None
         return self._ik.solve(xyz, rotation, seed)
+
+    @property
+    def seeds(self):
+        """The IK's null-space map seeds (7 rad each): other arm configurations to start from."""
+        return self._ik.ns_map_seeds
+
+    def solve_near(self, xyz, rotation, seed):
+        """Return 7 angles within bounds putting the tool point at xyz (m) and rotation (3x3):
+        exactly, else within LOOSE_M and LOOSE_RAD (near a singularity the exact solver
+        stalls), from seed, then from NEAR_SEEDS of the map's seeds; None when none reaches
+        it."""
+        q = self._within(self._ik.solve(xyz, rotation, seed))
+        for start in [] if q is not None else [seed] + list(self.seeds[:NEAR_SEEDS]):
+            q = None if start is seed else self._within(self._ik.solve(xyz, rotation, start))
+            q = q if q is not None else self._loose(xyz, rotation, start)
+            if q is not None:
+                break
+        return q
+
+    def _within(self, q):
+        return None if q is None or np.any(q < self.lower) or np.any(q > self.upper) else q
+
+    def _loose(self, xyz, rotation, seed):
+        q = self.clip(seed)
+        for _ in range(LOOSE_ITERATIONS):
+            pose, jacobian = self._ik.forward(q)
+            error = np.concatenate([xyz - pose[:3, 3], rotation_error(rotation, pose[:3, :3])])
+            if np.linalg.norm(error[:3]) < LOOSE_M and np.linalg.norm(error[3:]) < LOOSE_RAD:
+                return q
+            step = jacobian.T @ np.linalg.solve(
+                jacobian @ jacobian.T + LOOSE_DAMPING ** 2 * np.eye(6), error)
+            q = self.clip(q + step * min(1.0, LOOSE_STEP_RAD / max(np.linalg.norm(step), 1e-9)))
+        return None

@@ -9,7 +9,11 @@ While the arm does not follow, the target is Baxter's measured pose, so a follow
 makes the arm jump; while it follows, the device moves the target from there: joint velocities
 (keyboard) integrated, a twist (gamepad, SpaceMouse) turned into a joint step (study.cartesian),
 or a pose solved elsewhere (marker: set_target). The target stays within the joint limits and
-finite: nothing non-finite is ever handed out.
+finite: nothing non-finite is ever handed out; a moved target leads Baxter's measured arm by at
+most MAX_LEAD_RAD per joint, so that an arm held back (a keep-out zone) answers at once when the
+user turns back. A follow control shared by both sides (one SpaceMouse) stops every arm when one
+follows and else starts every arm: each side passes a press on only when it brings its own arm
+there, so the two arms never stay split.
 """
 import collections
 import math
@@ -20,6 +24,7 @@ from robopuppet import interface
 
 PRESS_S = 0.2        # a follow press made by a menu (marker) holds the button this long
 MAX_STEP_S = 0.1     # a longer gap between steps (a stopped process) moves no further than this
+MAX_LEAD_RAD = 0.25  # a moved target leads Baxter's measured arm by at most this, per joint
 RELEASED, PRESSED = 1.0, 0.0   # the end piece's reading: released (gripper open), pressed
 
 Output = collections.namedtuple('Output', 'positions button grippers')
@@ -46,7 +51,8 @@ class DeviceCore:
         self._controls, self._arm = controls, arm
         self._measured = None
         self._target = None
-        self._following = False
+        self._following = self._other_following = False
+        self._follow_down, self._pass_on = False, True   # the controls' follow; passed on
         self._last_s = None
         self._press_until_s = -math.inf
         self._closed = False
@@ -65,6 +71,10 @@ class DeviceCore:
     def on_teleop(self, following):
         """Take whether arm_X says the driven arm follows now."""
         self._following = bool(following)
+
+    def on_other_teleop(self, following):
+        """Take whether the other side's arm controller says its arm follows now."""
+        self._other_following = bool(following)
 
     def press_follow(self, t):
         """Press the follow button once, at t (s): held for PRESS_S."""
@@ -103,10 +113,16 @@ class DeviceCore:
                 moved = self._target + velocity * dt_s
             else:
                 moved = self._arm.step(self._target, velocity, dt_s)
-            if np.all(np.isfinite(moved)):
-                self._target = self._arm.clip(moved)
+            if np.all(np.isfinite(moved)) and self._measured is not None:
+                self._target = self._arm.clip(np.clip(moved, self._measured - MAX_LEAD_RAD,
+                                                      self._measured + MAX_LEAD_RAD))
         controls = self._controls
-        pressed = t < self._press_until_s or (controls is not None and controls.follow)
+        follow = controls is not None and controls.follow
+        if follow and not self._follow_down:   # a press: a shared one stops all or starts all
+            self._pass_on = not getattr(controls, 'SHARED_FOLLOW', False) or (
+                self._following or not self._other_following)
+        self._follow_down = follow
+        pressed = t < self._press_until_s or (follow and self._pass_on)
         closed = controls.closed if controls is not None else self._closed
         grippers = [0.0] * interface.NUM_GRIPPERS
         grippers[interface.END_PIECE_GRIPPER] = PRESSED if closed else RELEASED

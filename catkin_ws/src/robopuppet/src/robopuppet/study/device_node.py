@@ -43,7 +43,8 @@ class DeviceNode:
         Baxter's pose are known), heartbeat (1 Hz), joint_J/enc_stat (Working), user_btn (the
         side's follow button while pressed), gripper_G (the end piece: 0 closed, 1 open); echoes
         link_ping on link_echo. The marker also serves interface.marker_server(side).
-    Subscribes: <ns>/stored_settings, <ns>/teleop_state, /robot/joint_states.
+    Subscribes: <ns>/stored_settings, <ns>/teleop_state (and the other side's: a shared follow
+    control), /robot/joint_states.
     Parameters: ~arm_side (L|R), ~device (keyboard|gamepad|spacemouse|marker), ~events (path of
         the event source: /dev/input/..., spacenavd's socket, a FIFO, a file; not for marker;
         a source that fails ends the node, so arm_X stops Baxter), ~rate (Hz, 50),
@@ -57,6 +58,8 @@ class DeviceNode:
             raise ValueError('~device must be one of %s, got %r' % (', '.join(DEVICES), device))
         self._period_s = 1.0 / params.positive('~rate', rospy.get_param('~rate', 50.0))
         baxter_side, ns = interface.BAXTER_SIDE[side], interface.puppet_ns(side) + '/'
+        other = 'L' if side == 'R' else 'R'
+        other_side, other_ns = interface.BAXTER_SIDE[other], interface.puppet_ns(other) + '/'
         self._names = baxter_description.arm_joint_names(baxter_side)
         arm = CartesianArm(baxter_side)
         events = rospy.get_param('~events', '')
@@ -70,6 +73,8 @@ class DeviceNode:
             rospy.Subscriber(ns + interface.STORED_SETTINGS, ArmSettings, self._on_stored),
             rospy.Subscriber(ns + interface.TELEOP_STATE, TeleopState, lambda m: self._locked(
                 self._core.on_teleop, getattr(m, 'follow_' + baxter_side))),
+            rospy.Subscriber(other_ns + interface.TELEOP_STATE, TeleopState, lambda m: self._locked(
+                self._core.on_other_teleop, getattr(m, 'follow_' + other_side))),
             rospy.Subscriber(interface.ROBOT_JOINT_STATES, JointState, self._on_robot,
                              queue_size=1, tcp_nodelay=True)]
         self._marker = None

@@ -120,6 +120,7 @@ class SpaceMouse(Buttons):
     """
 
     JOINT_SPACE = False
+    SHARED_FOLLOW = True   # one SpaceMouse serves both sides: its follow button acts on both
 
     def __init__(self, side, max_speed=DEFAULT_MAX_SPEED, max_turn=DEFAULT_MAX_TURN):
         interface.check_side(side)

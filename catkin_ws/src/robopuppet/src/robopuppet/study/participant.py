@@ -3,9 +3,10 @@
 Like a person: a reaction time after each new goal (0.3 s, seeded noise), a minimum-jerk reach
 (assist.demonstration.minimum_jerk) toward a slightly noisy aim point, corrections when it sees
 the arm off the goal, the follow control pressed once at a trial's start for each arm that does
-not follow, and the gripper changed once when a goal wants another grip state (opened before a
-grasp, closed or opened on arrival). What the hands do on each device: participant_hands.py.
-Time is an argument; the noise comes from one generator seeded per trial.
+not follow (and again between trials, to let go), the gripper changed once when a goal wants
+another grip state (opened before a grasp, closed or opened on arrival), and, held back by a
+keep-out zone, a lift away and a way in from above. What the hands do on each device:
+participant_hands.py. Time is an argument; the noise comes from one generator seeded per trial.
 """
 import collections
 import math
@@ -13,10 +14,12 @@ import math
 import numpy as np
 
 from robopuppet import interface
+from robopuppet.assist import arm_path
 from robopuppet.assist.demonstration import minimum_jerk
-from robopuppet.baxter_sim.baxter_ik import ArmIK, quaternion_matrix, rotation_error
+from robopuppet.baxter_sim.baxter_ik import quaternion_matrix, rotation_error
 from robopuppet.baxter_description import axis_angle_matrix
-from robopuppet.study import participant_hands as hands_of
+from robopuppet.study import participant_hands as hands_of, tasks
+from robopuppet.study.cartesian import CartesianArm
 
 Target = collections.namedtuple('Target', 'arm xyz quat closed tolerance_m')
 Target.__doc__ = """One goal as the study state shows it: arm 'left'|'right', xyz (m, base), quat
@@ -32,16 +35,11 @@ STILL_M_S, STILL_DT_S = 0.02, 0.3   # once the tip moved slower than this over t
 STILL_WAIT_S = 3.0      # (or this long after the reach ended)
 FOLLOW_RETRY_S = 3.0    # a follow press that did not take is made again after this long
 CALIBRATE_RETRY_S = 30.0
-LOOSE_M, LOOSE_RAD, LOOSE_ITERATIONS = 0.004, 0.05, 100   # a good-enough IK answer
-HELD_LIFT = 0.4         # a zone held the arm: aim this share of the tolerance higher
+HELD_LIFT = 0.4         # a zone held the arm: aim this share of the tolerance higher, and
+RETREAT_M, RETREATS = 0.08, 3   # lift this far, over the goal, down to it (so often per goal)
 STUCK_PLANS = 3         # after this many reaches of one goal, IK from other seeds
 MAX_OFFSET_RAD = 0.2    # the most a hand leads Baxter to make up for where it ends
 FOLLOW_STATES = (interface.READY, interface.FOLLOWING)
-
-
-def trial_arms(task):
-    """Return the Baxter arms a task's trial uses: both for bimanual, else the right."""
-    return interface.BAXTER_SIDES if task == 'bimanual' else ('right',)
 
 
 def targets_of(state):
@@ -92,7 +90,9 @@ class ArmGoal:
         self.reach, self.on_since, self.opened = None, None, False
         self.tip, self.moved_t = None, go_t   # (t, xyz) a while ago; when it last moved
         # Baxter's arm off the hand's pose (puppet); reaches made; whether a zone held the arm
-        self.offset, self.plans, self.held = 0.0, 0, False
+        # (ever; since the last retreat); the retreats made; the via points ahead (xyz)
+        self.offset, self.plans, self.held, self.held_now, self.retreats, self.via = (
+            0.0, 0, False, False, 0, [])
 
 
 class Participant:
@@ -108,10 +108,12 @@ class Participant:
 
     def __init__(self, device, description, speeds=None):
         self.device = device
-        self.speeds = {'jog_speed': 0.4, 'max_speed': 0.15, 'max_turn': 0.6}
-        self.speeds.update(speeds or {})
-        self._iks = {arm: ArmIK(description, arm) for arm in interface.BAXTER_SIDES}
+        self.speeds = dict(hands_of.SPEEDS, **(speeds or {}))
+        self._arms = {arm: CartesianArm(arm, description, arm_path.joint_bounds(arm) if
+                                        device == 'puppet' else None)   # what a puppet shows
+                      for arm in interface.BAXTER_SIDES}
         self.closed = {arm: False for arm in interface.BAXTER_SIDES}
+        self._let_go_t = -math.inf
         self.begin(0.0, (), 0)
 
     def begin(self, t, arms, seed):
@@ -120,10 +122,8 @@ class Participant:
         self.hands = hands_of.make_hands(self.device, self.rng, **self.speeds)
         self.arms, self.start_t = tuple(arms), t
         self.go_t = t + self._reaction()
-        self._goals = {}
-        self._pressed_t, self._calibrate_t = {}, {}
-        self.presses = 0
-        self._grip_set = False
+        self._goals, self._pressed_t, self._calibrate_t = {}, {}, {}
+        self.presses, self._grip_set = 0, False
         if not self.hands.toggles:
             self.closed = {arm: False for arm in interface.BAXTER_SIDES}
 
@@ -132,8 +132,7 @@ class Participant:
 
     def tip(self, arm, angles):
         """Return (xyz, 3x3 rotation) of the arm's gripper tool point at angles."""
-        pose, _ = self._iks[arm].forward(np.asarray(angles, dtype=float))
-        return pose[:3, 3].copy(), pose[:3, :3].copy()
+        return self._arms[arm].tip(angles)
 
     def on_goal(self, target, tip):
         """Return True when the tip (xyz, rotation) is on the target, as this device can tell."""
@@ -169,7 +168,8 @@ class Participant:
                     self._reaction() if goal is not None else 0.0))
             if t < goal.go_t:
                 continue
-            goal.held = goal.held or bool((held or {}).get(arm))
+            goal.held_now = goal.held_now or bool((held or {}).get(arm))
+            goal.held = goal.held or goal.held_now
             wants[arm], grip = self._pursue(t, goal, angles[arm])
             if grip is not None:
                 grips[arm] = grip
@@ -183,15 +183,11 @@ class Participant:
             if following.get(arm) or arm not in angles:
                 continue
             if states.get(arm) == interface.CALIBRATING:
-                if t >= self._calibrate_t.get(arm, -math.inf) + CALIBRATE_RETRY_S:
-                    self._calibrate_t[arm] = t
-                    out += self.hands.calibrate(arm, angles[arm])
+                out += self.calibrate(t, [arm], angles, states)
             elif (states.get(arm) in FOLLOW_STATES and t >= self.go_t
                   and t >= self._pressed_t.get(arm, -math.inf) + FOLLOW_RETRY_S):
                 press.append(arm)
-        if press and self.hands.shared and any(following.get(a) for a in self.arms):
-            press = []   # one press would stop the arms that follow: leave it as it is
-        if press:
+        if press:   # shared, with an arm following: the press stops it; the next starts all
             for arm in (self.arms if self.hands.shared else press):
                 self._pressed_t[arm] = t
             self.presses += 1 if self.hands.shared else len(press)
@@ -214,9 +210,16 @@ class Participant:
             if hand is not None:   # where Baxter's arm ended off the hand's pose
                 goal.offset = np.clip(hand - angles, -MAX_OFFSET_RAD, MAX_OFFSET_RAD)
             goal.plans += 1   # stuck (a zone holds the arm): try another arm configuration
-            seed = (None if goal.plans <= STUCK_PLANS else self._iks[target.arm].ns_map_seeds[
-                goal.plans % len(self._iks[target.arm].ns_map_seeds)])
-            goal.reach = self._plan(t, target, tip, angles, hand, goal.offset if seed is None
+            seeds = self._arms[target.arm].seeds
+            seed = None if goal.plans <= STUCK_PLANS else seeds[goal.plans % len(seeds)]
+            if goal.held_now and goal.retreats < RETREATS:   # held: up, over the goal, down
+                goal.held_now, goal.retreats = False, goal.retreats + 1
+                goal.via = [tip[0] + (0.0, 0.0, RETREAT_M),
+                            np.asarray(target.xyz) + (0.0, 0.0, RETREAT_M)]
+            toward = target
+            if goal.via:
+                toward, seed = target._replace(xyz=tuple(goal.via.pop(0)), quat=None), None
+            goal.reach = self._plan(t, toward, tip, angles, hand, goal.offset if seed is None
                                     else 0.0, seed, goal.held)
         xyz, velocity, rotation, turn, joints = goal.reach.at(t)
         hold = on_goal and t >= goal.reach.end
@@ -238,11 +241,12 @@ class Participant:
         rotation = tip[1] if target.quat is None else quaternion_matrix(target.quat)
         q0, q1 = np.asarray(angles, dtype=float), None
         if self.hands.joint_space:
-            q1 = self._solve(target.arm, aim, rotation, q0 if seed is None else seed)
-            if q1 is None and target.quat is None:
-                q1 = self._solve(target.arm, aim, tip[1], q0)
+            arm = self._arms[target.arm]
+            q1 = arm.solve_near(aim, rotation, q0 if seed is None else seed)
+            if q1 is None and target.quat is None:   # any orientation: the gripper down, then
+                q1 = arm.solve_near(aim, tasks.neutral_rotation(target.arm), q0)
         if self.hands.joint_space:   # nothing reaches it: stay (try again after SETTLE_S)
-            q1 = q0 if q1 is None else q1 + offset
+            q1 = q0 if q1 is None else self._arms[target.arm].clip(q1 + offset)
             q0 = q0 if hand is None else np.asarray(hand, dtype=float)
         duration = hands_of.reach_time(
             self.device, np.linalg.norm(aim - tip[0]),
@@ -250,33 +254,6 @@ class Participant:
             0.0 if q1 is None else np.abs(q1 - q0).max(), self.speeds)
         duration *= 1.0 + 0.1 * self.rng.standard_normal()
         return Reach(t, max(duration, 0.3), tip, (aim, rotation), q0, q1)
-
-    def _solve(self, arm, xyz, rotation, seed):
-        """Return joints putting the tip at the pose (exactly, else loosely: near a
-        singularity the exact solver stalls), or None."""
-        ik = self._iks[arm]
-        q = ik.solve(xyz, rotation, seed)
-        for start in ([] if q is not None else [seed] + ik.ns_map_seeds[:6]):
-            q = ik.solve(xyz, rotation, start)
-            if q is None:
-                q = self._loose(ik, xyz, rotation, start)
-            if q is not None:
-                break
-        return q
-
-    @staticmethod
-    def _loose(ik, xyz, rotation, seed):   # damped least squares to LOOSE_M and LOOSE_RAD
-        q = np.clip(np.asarray(seed, dtype=float), ik.lower, ik.upper)
-        for _ in range(LOOSE_ITERATIONS):
-            pose, jacobian = ik.forward(q)
-            error = np.concatenate([xyz - pose[:3, 3], rotation_error(rotation, pose[:3, :3])])
-            if np.linalg.norm(error[:3]) < LOOSE_M and np.linalg.norm(error[3:]) < LOOSE_RAD:
-                return q
-            step = jacobian.T @ np.linalg.solve(jacobian @ jacobian.T + 0.05 ** 2 * np.eye(6),
-                                                error)
-            q = np.clip(q + step * min(1.0, 0.3 / max(np.linalg.norm(step), 1e-9)),
-                        ik.lower, ik.upper)
-        return None
 
     def _grip(self, t, grips):
         """Return the actions that set the grips wanted now (a shared control: all at once)."""
@@ -293,3 +270,27 @@ class Participant:
     def rest(self, t):
         """Return the actions that let go of the device (between trials)."""
         return self.hands.rest(t)
+
+    def calibrate(self, t, arms, angles, states):
+        """Return the actions that get a new device working for each of the arms whose
+        controller calibrates (the simulated puppet: the turn through its index marks, ending
+        at Baxter's pose); again after CALIBRATE_RETRY_S."""
+        out = []
+        for arm in arms:
+            if (states.get(arm) == interface.CALIBRATING and arm in angles
+                    and t >= self._calibrate_t.get(arm, -math.inf) + CALIBRATE_RETRY_S):
+                self._calibrate_t[arm] = t
+                out += self.hands.calibrate(arm, angles[arm])
+        return out
+
+    def let_go(self, t, angles, following):
+        """Return the actions that stop the arms following between trials, so that the runner
+        can bring them to their start: a follow press, again after FOLLOW_RETRY_S while an arm
+        still follows (a shared control's press acts on every side)."""
+        held = [arm for arm in interface.BAXTER_SIDES if following.get(arm) and arm in angles]
+        out = self.hands.due(t)
+        if held and t >= self._let_go_t + FOLLOW_RETRY_S:
+            self._let_go_t = t
+            self.presses += 1
+            out += self.hands.follow(held, t, angles)
+        return out

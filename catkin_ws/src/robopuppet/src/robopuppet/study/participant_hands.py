@@ -45,6 +45,8 @@ KEYS_AT_ONCE = 4         # the joints furthest from their goals get their keys a
 PWM_PERIOD_S = 0.2       # the +z button is pressed this share of each period for a slow +z
 MARKER_PERIOD_S = 0.05   # a mouse drag sends a pose this often
 PUPPET_RAD_S = 0.6       # the hand's peak joint speed on the puppet
+SPEEDS = {'jog_speed': key_jog.DEFAULT_JOG_SPEED, 'max_speed': pad_axes.DEFAULT_MAX_SPEED,
+          'max_turn': pad_axes.DEFAULT_MAX_TURN}   # the devices' own, by default
 
 
 def reach_time(device, distance_m, turn_rad, joints_rad, speeds):

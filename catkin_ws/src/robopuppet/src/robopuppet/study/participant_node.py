@@ -1,8 +1,9 @@
 """sim_participant: the simulated participant of a user study (study.participant, docs/study.md).
 
 Watches the study runner's state; while a trial runs, drives the trial's device toward its goals
-as a person would (study.participant), through study.participant_outputs; in the
-questionnaire, answers for the device (participant.answers, seeded).
+as a person would (study.participant), through study.participant_outputs; before a trial,
+calibrates a new simulated puppet and lets go of the arms; in the questionnaire, answers for the
+device (participant.answers, seeded).
 """
 import threading
 
@@ -12,8 +13,7 @@ import rospy
 from sensor_msgs.msg import JointState
 
 from robopuppet import baxter_description as bd, interface, params
-from robopuppet.study import participant, participant_answers
-from robopuppet.study.participant_hands import Calibrate
+from robopuppet.study import participant, participant_answers, participant_hands, tasks
 from robopuppet.study.participant_outputs import Outputs
 from robopuppet_msgs.msg import Questionnaire, StudyState, TeleopState
 
@@ -33,8 +33,7 @@ class ParticipantNode:
     def __init__(self):
         self._seed = int(rospy.get_param('~seed', 0))
         self._speeds = {name: params.positive('~' + name, rospy.get_param('~' + name, default))
-                        for name, default in (('jog_speed', 0.4), ('max_speed', 0.15),
-                                              ('max_turn', 0.6))}
+                        for name, default in participant_hands.SPEEDS.items()}
         self._rate_hz = params.positive('~rate', rospy.get_param('~rate', 50.0))
         self._description = bd.Description(rospy.get_param(
             interface.ROBOT_DESCRIPTION_PARAM, None) or bd.read_urdf(
@@ -43,7 +42,7 @@ class ParticipantNode:
         self._lock = threading.Lock()
         self._state, self._angles, self._teleop = None, {}, {}
         self._person, self._person_key, self._trial = None, None, None
-        self._answered, self._driving, self._calibrated = set(), False, {}
+        self._answered, self._driving = set(), False
         self._answers = rospy.Publisher(interface.STUDY_QUESTIONNAIRE, Questionnaire,
                                         queue_size=10, latch=True)
         rospy.Subscriber(interface.STUDY_STATE, StudyState, self._keep, 'state', queue_size=10)
@@ -79,15 +78,10 @@ class ParticipantNode:
                 self._outputs.send(t, *self._device, self._person.rest(t))
             if state.phase == StudyState.QUESTIONNAIRE:
                 self._answer(state.participant, state.device)
-            elif state.phase == StudyState.DEVICE and state.device == 'puppet':
-                self._calibrate(t, state.task, angles, teleop)
+            elif state.phase == StudyState.DEVICE:
+                self._between(t, state, angles, teleop)
             return
-        arms = participant.trial_arms(state.task)
-        sides = tuple(PUPPET_SIDE[a] for a in arms)
-        if (state.device, arms) != self._person_key:
-            self._person_key = (state.device, arms)
-            self._person = participant.Participant(state.device, self._description,
-                                                   self._speeds)
+        arms, sides = self._meet(state.device, state.task)
         if (state.participant, state.trial) != self._trial:
             self._trial = (state.participant, state.trial)
             self._person.begin(t, arms, [self._seed, state.seed])
@@ -100,15 +94,25 @@ class ParticipantNode:
                                     held)
         self._outputs.send(t, state.device, sides, actions)
 
-    def _calibrate(self, t, task, angles, teleop):
-        """Turn a new simulated puppet's joints through their index marks, ending at Baxter's
-        pose (the runner waits for its arm to be ready before the trial)."""
-        for arm in participant.trial_arms(task):
-            view, last = teleop.get(PUPPET_SIDE[arm]), self._calibrated.get(arm, -np.inf)
-            if (getattr(view, 'state', None) == interface.CALIBRATING and arm in angles
-                    and t >= last + participant.CALIBRATE_RETRY_S):
-                self._calibrated[arm] = t
-                self._outputs.send(t, 'puppet', (), [Calibrate(PUPPET_SIDE[arm], angles[arm])])
+    def _meet(self, device, task):
+        """Return a task's arms and puppet sides; the participant of the device and those arms
+        is made (and kept while both stay)."""
+        arms = tasks.ARMS[task]
+        if (device, arms) != self._person_key:
+            self._person_key = (device, arms)
+            self._person = participant.Participant(device, self._description, self._speeds)
+        return arms, tuple(PUPPET_SIDE[a] for a in arms)
+
+    def _between(self, t, state, angles, teleop):
+        """Before a trial: a new simulated puppet is calibrated (the runner waits for its arm
+        to be ready), and the arms stop following (the runner then brings them to their
+        start; the follow press's release comes later, so this runs on)."""
+        arms, sides = self._meet(state.device, state.task)
+        states = {a: getattr(teleop.get(PUPPET_SIDE[a]), 'state', None) for a in arms}
+        following = {a: any(getattr(v, 'follow_' + a) for v in teleop.values())
+                     for a in interface.BAXTER_SIDES}
+        self._outputs.send(t, state.device, sides, self._person.calibrate(t, arms, angles, states)
+                           + self._person.let_go(t, angles, following))
 
     def _answer(self, who, device):
         """Answer the questionnaire about a device once per participant."""

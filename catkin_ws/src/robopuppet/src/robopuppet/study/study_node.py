@@ -16,17 +16,10 @@ COLUMNS = {results.TRIALS_CSV: results.TRIAL_COLUMNS,
            results.QUESTIONNAIRE_CSV: results.QUESTIONNAIRE_COLUMNS}
 
 
-def task_api():
-    """Return the tasks' TaskApi (study.tasks, task_judge, metrics), task_markers, tips_of
-    (imported when the node starts, so that a --help need not load the tasks' kinematics)."""
-    from robopuppet.study import metrics, task_judge, task_markers, tasks  # noqa: E501
-    return (study_run.TaskApi(tasks.make_trial, task_judge.TrialJudge, metrics.TrialMetrics,
-                              tasks.TIMEOUT_S), task_markers.task_markers, task_judge.tips_of)
-
-
 class StudyNode:
     """Run studies: the GUI's Start (or the command's --participant), each trial's inputs
-    (roslaunch robopuppet input.launch per side), the episode, the judge, the CSV rows.
+    (roslaunch robopuppet input.launch per side), the arms to their start before it (rosrun
+    robopuppet move_arms), the episode, the judge, the CSV rows.
 
     ROS API: serves /puppet/study/start (StudyStart); publishes /puppet/study/state (StudyState,
     latched, on change and every 0.5 s, 20 Hz in a trial), /robopuppet/study_task (MarkerArray,
@@ -37,13 +30,14 @@ class StudyNode:
 
     def __init__(self, config):
         self._name, self._config, self._lock = rospy.get_name(), config, threading.Lock()
-        api, markers, tips_of = task_api()
+        api, markers, tips_of = study_topics.task_api()
         description = baxter_description.load()
         self._core = study_run.StudyRun(
             api, config['events'], config['study'], config, config['trial_timeout'] or None,
             config['ready_timeout'])
         extra = ['sim_puppet:=%s' % str(config['sim_puppet']).lower()] + config['input_args']
         self._inputs = input_launch.InputProcesses(extra)
+        self._move = input_launch.ArmsMove()
         self._watch = study_topics.StudyWatch(lambda n, p: tips_of(description, n, p))
         self._record, self._recording = study_topics.RecordClient(self._name), False
         self._pubs = study_topics.StudyPublishers(markers, os.path.join(
@@ -96,6 +90,9 @@ class StudyNode:
                     rospy.loginfo('%s: %s', self._name, ' '.join(command))
             elif isinstance(action, study_run.StopInputs):
                 self._inputs.stop()
+                self._move.stop()
+            elif isinstance(action, study_run.MoveArms):
+                rospy.loginfo('%s: %s', self._name, ' '.join(self._move.start()))
             elif isinstance(action, study_run.Record) and (action.start or self._recording):
                 episode = self._record.call(action.start, action.task)
                 self._recording = action.start and bool(episode)
@@ -115,6 +112,9 @@ class StudyNode:
             if ended and self._core.phase in study_run.RUNNING:
                 self._act(self._core.stop(now, 'the input of arm_%s ended (exit %s)' % next(
                     iter(ended.items()))))
+            moved = self._move.ended()   # (a failure shows in the state's detail, logged)
+            if moved is not None:
+                self._act(self._core.on_moved(now, *moved))
             self._act(self._core.step(now, self._watch.seen()))
             state, judge = self._core.state(now), self._core.trial_judge
         if self._pubs.publish(now, state, judge):

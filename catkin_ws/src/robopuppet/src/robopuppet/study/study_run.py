@@ -1,5 +1,10 @@
 """The study runner's sequence: idle -> device -> trial ... -> questionnaire -> ... -> done.
 
+Before every trial (the device phase): the trial's inputs ready, then no Baxter arm following
+(the participant lets go: a press of the follow button), then both arms brought to their start,
+Baxter's neutral pose (MoveArms: the adapter runs move_arms), so that every trial starts from the
+same pose whatever the trials before it did.
+
 Pure: time comes in as an argument (s, one clock: the adapter's ROS time), and what to do
 goes out as actions (start or stop the inputs, start or stop an episode, write a CSV row,
 summarise) for the node adapter (study_node) to carry out. The trial's judge and metrics are
@@ -16,17 +21,20 @@ IDLE, DEVICE, TRIAL, QUESTIONNAIRE, DONE, STOPPED = (
     'idle', 'device', 'trial', 'questionnaire', 'done', 'stopped')  # StudyState's phases
 RUNNING = (DEVICE, TRIAL, QUESTIONNAIRE)
 EVENT_DEVICES = ('keyboard', 'gamepad', 'spacemouse')  # the devices read from an event source
-READY_TIMEOUT_S = 60.0   # a device's inputs not ready by then stop the study
+READY_TIMEOUT_S = 60.0   # a device's inputs not ready (or the arms not let go) by then stop
+MOVE_TRIES = 3           # the arms not brought to their start in this many tries stop the study
 ARM_OF = interface.BAXTER_SIDE  # puppet side -> the Baxter arm its input drives
 
 # Actions. StartInputs: stop what runs and start `device` on each of `sides` ({side: events
 # path, '' for none}); StopInputs: stop them; Record: start (task text) or stop an episode;
-# WriteRow: append `row` to the results file `name`; Summarize: write the study's summary.
+# WriteRow: append `row` to the results file `name`; Summarize: write the study's summary;
+# MoveArms: bring both arms to their start (move_arms), then call on_moved with its outcome.
 StartInputs = collections.namedtuple('StartInputs', 'device events')
 StopInputs = collections.namedtuple('StopInputs', '')
 Record = collections.namedtuple('Record', 'start task')
 WriteRow = collections.namedtuple('WriteRow', 'name row')
 Summarize = collections.namedtuple('Summarize', '')
+MoveArms = collections.namedtuple('MoveArms', '')
 
 # What the adapter saw: ready {side: teleop_state ready or following}; tips {arm: (xyz, R)} or
 # None before Baxter's first joint_states; closed, following, zone_held {arm: bool}.
@@ -61,6 +69,7 @@ class StudyRun:
         self._phase, self._participant, self._detail = IDLE, '', 'no study runs'
         self._plan, self._k, self._inputs = [], 0, None  # the trial list, its current one, inputs
         self._since = self._t0 = 0.0   # when the DEVICE wait began; when the trial began
+        self._moving, self._move_tries = False, 0   # the arms on their way to the start
         self._judge = self._metrics = self._made = None
         self._episode = ''
 
@@ -117,6 +126,7 @@ class StudyRun:
         trial = self._current()
         wanted = (trial.device, sides_of(trial.task))
         self._phase, self._since = DEVICE, now
+        self._moving, self._move_tries = False, 0
         self._detail = 'starting %s for trial %d of %d' % (trial.device, trial.number,
                                                            len(self._plan))
         if wanted == self._inputs:
@@ -131,7 +141,7 @@ class StudyRun:
         if self._phase not in RUNNING:
             return []
         actions = [Record(False, '')] if self._phase == TRIAL else []
-        self._phase, self._detail, self._inputs = STOPPED, why, None
+        self._phase, self._detail, self._inputs, self._moving = STOPPED, why, None, False
         return actions + [StopInputs()]
 
     def on_episode(self, now, episode):
@@ -149,15 +159,41 @@ class StudyRun:
             return self._run_trial(now, seen)
         return []
 
+    def on_moved(self, now, code, why):
+        """Take move_arms' outcome: exit code 0 (the arms are at their start), else why not.
+        Returns actions."""
+        if self._phase != DEVICE or not self._moving:
+            return []
+        self._moving = False
+        if code == 0:
+            return self._begin(now, self._current())
+        self._move_tries += 1
+        if self._move_tries >= MOVE_TRIES:
+            return self.stop(now, 'the arms were not brought to their start (%d tries): %s'
+                             % (self._move_tries, why))
+        self._detail = 'bringing the arms to their start again: %s' % why
+        return []
+
     def _wait_ready(self, now, seen):
+        if self._moving:
+            return []
         trial = self._current()
         sides = sides_of(trial.task)
-        if all(seen.ready.get(s) for s in sides):
-            return self._begin(now, trial)
+        late = [s for s in sides if not seen.ready.get(s)]
+        held = [arm for arm, following in sorted(seen.following.items()) if following]
+        if not (late or held):
+            self._moving = True
+            self._detail = ('bringing the arms to their start (Baxter\'s neutral pose) for '
+                            'trial %d of %d' % (trial.number, len(self._plan)))
+            return [MoveArms()]
+        if held:
+            self._detail = ('let go: press the follow button, so that the arms can be brought '
+                            'to their start (the %s arm follows)' % ' and '.join(held))
         if now - self._since > self._ready_timeout_s:
-            late = [s for s in sides if not seen.ready.get(s)]
-            return self.stop(now, '%s: arm_%s not ready %.0f s after starting its input' % (
-                trial.device, ' and arm_'.join(late), self._ready_timeout_s))
+            why = ('arm_%s not ready' % ' and arm_'.join(late) if late else
+                   'the %s arm still following' % ' and '.join(held))
+            return self.stop(now, '%s: %s %.0f s after the trial was due' % (
+                trial.device, why, self._ready_timeout_s))
         return []
 
     def _begin(self, now, trial):

@@ -1,4 +1,5 @@
-"""The study node's ROS side: what it watches, its StudyState message, the recorder's service."""
+"""The study node's ROS side: what it watches, its StudyState message, the recorder's service,
+the tasks' API loaded when the node starts."""
 import threading
 
 import rospy
@@ -17,6 +18,14 @@ READY_STATES = (ifc.READY, ifc.FOLLOWING)
 STATE_EVERY_S = 0.5    # StudyState at least this often (every step in a trial)
 MARKERS_EVERY = 4      # the task markers every 4th publication in a trial
 RECORDER_WAIT_S = 0.5   # how long a trial's start waits for the recorder's service to appear
+
+
+def task_api():
+    """Return the tasks' TaskApi (study.tasks, task_judge, metrics), task_markers, tips_of
+    (imported when the node starts, so that a --help need not load the tasks' kinematics)."""
+    from robopuppet.study import metrics, task_judge, task_markers, tasks  # noqa: E501
+    return (study_run.TaskApi(tasks.make_trial, task_judge.TrialJudge, metrics.TrialMetrics,
+                              tasks.TIMEOUT_S), task_markers.task_markers, task_judge.tips_of)
 
 
 class StudyWatch:

@@ -1,6 +1,6 @@
 """study_summary: a study's table per device (summary.csv, summary.md) and its plots (PNG).
 
-Pure (files, numpy, matplotlib with the Agg backend: no display needed). Practice trials are
+Pure (files, numpy, matplotlib through png_plot: no display needed). Practice trials are
 left out; a device's TLX and SUS are the means over its questionnaires.
 """
 import argparse
@@ -9,6 +9,7 @@ import sys
 
 import numpy as np
 
+from robopuppet import png_plot
 from robopuppet.study import results
 
 SUMMARY_CSV = 'summary.csv'
@@ -86,9 +87,7 @@ def markdown(table, title):
 def write_plots(results_dir, trial_rows, table):
     """Write the PNG plots: completion time per device (box plot of successful trials), success
     rate and mean TLX (bars). Returns their paths."""
-    import matplotlib  # pylint: disable=import-outside-toplevel  (numpy-only use stays light)
-    matplotlib.use('Agg')
-    import matplotlib.pyplot as plt  # pylint: disable=import-outside-toplevel
+    plt = png_plot.pyplot()
     devices = [row['device'] for row in table]
     times = [[_number(r['completion_s']) for r in trial_rows if r['device'] == d
               and r['practice'] != 'true' and r['success'] == 'true'] for d in devices]
@@ -106,10 +105,7 @@ def write_plots(results_dir, trial_rows, table):
         axis.set_ylabel(ylabel)
         axis.set_title('%s per device' % ylabel.split(' (')[0])
         path = os.path.join(results_dir, PLOTS[key])
-        try:
-            figure.savefig(path, format='png', dpi=80)
-        finally:
-            plt.close(figure)
+        png_plot.write_png(path, figure)
         paths.append(path)
     return paths
 

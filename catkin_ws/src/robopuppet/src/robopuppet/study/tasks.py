@@ -36,7 +36,7 @@ ARMS = {'reach_hold': ('right',), 'trace': ('right',), 'pick_place': ('right',),
 
 # reach_hold: 3 poses in this box (right arm), each at least REACH_APART_M from the one before;
 # the gripper points down, turned about the vertical by up to REACH_TURN_RAD from how it is at
-# Baxter's neutral pose (where the stand-in starts), so that a device that keeps the gripper's
+# Baxter's neutral pose (where every trial starts), so that a device that keeps the gripper's
 # orientation (the gamepad) stays within the tolerance.
 REACH_BOX = ((0.73, 0.80), (-0.45, 0.0), (0.10, 0.20))
 REACH_APART_M = 0.12
@@ -56,9 +56,11 @@ PICK_PLACES = (((0.80, -0.40, 0.10), (0.03, 0.04, 0.02)),
 PICK_TOLERANCE_M, PLACE_TOLERANCE_M = 0.03, 0.04
 # bimanual: the tray of assist.tasks' carry_tray (handles 0.40 m apart, on a stand over the bed)
 # but lower and nearer, so that it can be lifted by BIMANUAL_LIFT_M within the puppet's range.
+# It stands on Baxter's midline (drawn along x and z only): one SpaceMouse moves the arms
+# mirrored about it, from the mirrored start every trial has (Baxter's neutral pose).
 TRAY = assist_tasks.CARRY_TRAY.geometry
 TRAY_WIDTH_M = TRAY['tray_width_m']
-TRAY_CENTRE, TRAY_SPREAD = (0.77, 0.0, 0.08), (0.02, 0.04, 0.01)
+TRAY_CENTRE, TRAY_SPREAD = (0.77, 0.0, 0.08), (0.02, 0.0, 0.01)
 BIMANUAL_LIFT_M, BIMANUAL_TOLERANCE_M, BIMANUAL_HOLD_S, BIMANUAL_UP_HOLD_S = 0.15, 0.03, 1.0, 0.5
 PRACTICE_SALT = 7919   # a practice trial draws from another stream than the trial of its seed
 

@@ -1,11 +1,11 @@
-"""Unit tests of which keep-out zones the replay onto the robot keeps (replay_node.keepout_zones):
+"""Unit tests of which keep-out zones the replay onto the robot keeps (robot_player.keepout_zones):
 --zones, else the running arm controllers' zones_file (all of them when they differ), else the
 package's; the parameter server is replaced by what it would hold."""
 import pytest
 
 from robopuppet import baxter_description
 from robopuppet.arm import zone_topics
-from robopuppet.episodes import replay_node
+from robopuppet.episodes import robot_player
 
 SHIPPED = baxter_description.URDF_PATH.replace('urdf/baxter.urdf', 'config/zones.yaml')
 SHIPPED_NAMES = ['patient head', 'patient body', 'bed']
@@ -23,7 +23,7 @@ def chosen(monkeypatch, running, given=None):
     """Return (guards, what it said) with the arm controllers' zones_file as `running`."""
     monkeypatch.setattr(zone_topics, 'controllers_zones_files', lambda: dict(running))
     said = []
-    return replay_node.keepout_zones(given, said.append), said
+    return robot_player.keepout_zones(given, said.append), said
 
 
 def test_by_default_the_running_arm_controllers_zones(monkeypatch):
